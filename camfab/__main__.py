@@ -1,0 +1,5 @@
+"""``python -m camfab`` runs the command line."""
+
+from camfab.cli import main
+
+main()

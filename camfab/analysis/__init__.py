@@ -1,0 +1,1 @@
+"""Analysis of a design: findings (checks as data), kinematics, continuity."""

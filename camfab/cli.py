@@ -1,0 +1,168 @@
+"""The ``camfab`` command line: thin — parse, call the library, print, set the exit status.
+
+Exit status: 0 built and every check passed; 1 built (or checked) with a failed ``error`` check;
+2 the design or the command line is invalid (one line on stderr, nothing written).
+Heavy libraries are imported inside the commands so ``camfab --version`` stays instant.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import click
+
+from camfab import __version__
+
+if TYPE_CHECKING:
+    from camfab.pipeline import Analysis
+
+STARTER_KINDS = ("disc-roller", "disc-knife", "disc-flat", "disc-mushroom", "oscillating",
+                 "oscillating-flat", "cylindrical")
+
+
+@dataclass
+class Outcome:
+    """What one design's run printed and its exit status."""
+
+    code: int
+    out: list[str] = field(default_factory=list)
+    err: list[str] = field(default_factory=list)
+
+
+@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+@click.version_option(__version__, "-V", "--version", prog_name="camfab")
+def main() -> None:
+    """camfab: turn a cam design (YAML) into workshop files and an inspection report."""
+
+
+@main.command()
+@click.argument("designs", nargs=-1, required=True)
+@click.option("-o", "--output", "out_dir", type=click.Path(file_okay=False, path_type=Path),
+              help="Write the files into DIR instead of exports/<name>/.", metavar="DIR")
+@click.option("-j", "--jobs", type=click.IntRange(1, 256), default=1, show_default=True,
+              help="Build this many designs in parallel processes.")
+def build(designs: tuple[str, ...], out_dir: Path | None, jobs: int) -> None:
+    """Build DESIGN files: write the report, motion table and manufacturing files."""
+    outcomes = _run_all(designs, out_dir, jobs, _build_one)
+    sys.exit(_finish(outcomes))
+
+
+@main.command()
+@click.argument("designs", nargs=-1, required=True)
+def check(designs: tuple[str, ...]) -> None:
+    """Analyse DESIGN files and print the findings; write nothing."""
+    outcomes = [_check_one(path) for path in designs]
+    sys.exit(_finish(outcomes))
+
+
+@main.command()
+def laws() -> None:
+    """List the motion laws with their peak coefficients Cv, Ca, Cj."""
+    from camfab.report_text import laws_table
+
+    laws_table()
+
+
+@main.command()
+@click.argument("kind", required=False)
+def new(kind: str | None) -> None:
+    """Print a commented starter design of KIND (disc-roller, disc-flat, oscillating, ...)."""
+    import difflib
+    from importlib import resources
+
+    if kind is None:
+        click.echo("starter designs: " + ", ".join(STARTER_KINDS))
+        click.echo("usage: camfab new KIND > design.yaml")
+        return
+    if kind not in STARTER_KINDS:
+        match = difflib.get_close_matches(kind, STARTER_KINDS, n=1, cutoff=0.5)
+        hint = f"did you mean '{match[0]}'?; " if match else ""
+        click.echo(f"camfab new: unknown kind '{kind}' ({hint}allowed: "
+                   f"{', '.join(STARTER_KINDS)})", err=True)
+        sys.exit(2)
+    text = (resources.files("camfab") / "starters" / f"{kind}.yaml").read_text(encoding="utf-8")
+    click.echo(text, nl=False)
+
+
+def _run_all(designs: tuple[str, ...], out_dir: Path | None, jobs: int, task) -> list[Outcome]:
+    if jobs == 1 or len(designs) == 1:
+        return [task(path, out_dir) for path in designs]
+    from concurrent.futures import ProcessPoolExecutor
+
+    with ProcessPoolExecutor(max_workers=min(jobs, len(designs))) as pool:
+        return list(pool.map(task, designs, [out_dir] * len(designs)))
+
+
+def _finish(outcomes: list[Outcome]) -> int:
+    for outcome in outcomes:
+        for line in outcome.out:
+            click.echo(line)
+        for line in outcome.err:
+            click.echo(line, err=True)
+    return max((o.code for o in outcomes), default=0)
+
+
+def _guarded(path: str, work) -> Outcome:
+    """Run *work*; invalid input becomes its one-line message and status 2."""
+    from camfab.errors import CamfabError
+
+    try:
+        return work()
+    except CamfabError as exc:
+        return Outcome(2, err=[str(exc)])
+    except Exception as exc:
+        if os.environ.get("CAMFAB_DEBUG"):
+            raise
+        return Outcome(2, err=[f"{path}: internal error: {type(exc).__name__}: {exc} "
+                               "(set CAMFAB_DEBUG=1 for details; please report it)"])
+
+
+def _build_one(path: str, out_dir: Path | None) -> Outcome:
+    def work() -> Outcome:
+        from camfab.pipeline import build as build_design
+
+        result = build_design(path, out_dir)
+        lines = [f"{result.analysis.design.name}: {_verdict(result.analysis)} — wrote "
+                 f"{len(result.written)} file(s) to {result.folder}/"]
+        lines += [f"  {p.name}" for p in result.written]
+        if result.not_produced:
+            lines.append(f"  not produced by camfab {__version__}: "
+                         + ", ".join(result.not_produced))
+        lines += [f"  {_mark(f)} {f.id}: {f.message}" for f in result.analysis.findings
+                  if not f.ok]
+        return Outcome(result.exit_code, out=lines)
+
+    return _guarded(path, work)
+
+
+def _check_one(path: str) -> Outcome:
+    def work() -> Outcome:
+        from camfab.design import load_design
+        from camfab.pipeline import analyse
+        from camfab.report_text import print_summary
+
+        analysis = analyse(load_design(path))
+        print_summary(analysis)
+        return Outcome(analysis.exit_code)
+
+    return _guarded(path, work)
+
+
+def _verdict(analysis: Analysis) -> str:
+    from camfab.analysis.findings import count
+
+    errors, warnings = count(analysis.findings, "error"), count(analysis.findings, "warning")
+    state = "FAIL" if analysis.exit_code else "OK"
+    return f"{state} ({errors} error(s), {warnings} warning(s))"
+
+
+def _mark(finding) -> str:
+    return "✖" if finding.severity == "error" else "!"
+
+
+if __name__ == "__main__":  # pragma: no cover
+    main()

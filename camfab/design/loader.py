@@ -1,0 +1,318 @@
+"""Load a design: YAML with lines -> structural checks -> models -> rules.
+
+Every problem becomes one :class:`~camfab.errors.DesignError` naming the file, the line, the field
+and what is wrong. When a file has several problems, the one nearest the top is reported.
+"""
+
+from __future__ import annotations
+
+import difflib
+from pathlib import Path
+from typing import Any
+
+from pydantic import ValidationError
+
+from camfab.design.model import Design
+from camfab.design.rules import RuleViolation
+from camfab.design.source import Path_, SourceDocument, dotted, parse_yaml, read_design_file
+from camfab.errors import DesignError, Location
+
+SEGMENT_KINDS = {"rise": "rise", "return": "return", "fall": "return", "dwell": "dwell"}
+
+_TOP = ("name", "description", "units", "cam", "follower", "motion", "spring", "limits",
+        "manufacturing", "outputs", "table_step")
+_CAM = {
+    "disc": ("type", "rotation", "speed_rpm", "base_radius", "thickness", "bore", "keyway"),
+    "cylindrical": ("type", "rotation", "speed_rpm", "radius", "length", "groove_depth",
+                    "groove_start", "bore"),
+}
+_SECTIONS: dict[str, tuple[str, ...]] = {
+    "spring": ("rate", "preload", "initial_compression", "gravity", "damping", "external_load"),
+    "limits": ("pressure_angle", "min_radius_of_curvature"),
+    "manufacturing": ("tolerance", "kerf", "cutter_radius"),
+}
+_KEYWAY = ("width", "depth")
+_CONDITIONS = ("velocity", "acceleration", "jerk")
+_LAW_KEYS = {
+    "modified-uniform-velocity": ("blend",),
+    "polynomial": ("start", "end", "points"),
+    "table": ("start", "end", "points", "csv"),
+}
+
+
+def load_design(path: str | Path) -> Design:
+    """Read, check and return the design in file *path* (raises DesignError/DesignFileError)."""
+    return _validate(read_design_file(path))
+
+
+def design_from_text(text: str, file: str = "<design>", folder: Path = Path(".")) -> Design:
+    """The design in YAML *text* (for tests and tools; *file* names it in messages)."""
+    return _validate(parse_yaml(text, file, folder))
+
+
+def design_from_mapping(data: dict[str, Any], file: str = "<design>") -> Design:
+    """A design from already-parsed data (no line numbers in messages)."""
+    return _validate(SourceDocument(file=file, data=data))
+
+
+def _validate(doc: SourceDocument) -> Design:
+    shaped = _Shaper(doc)
+    data = shaped.run()
+    oscillating = _get(data, "follower", "motion") == "oscillating"
+    units = data.get("units") if data.get("units") in ("mm", "in") else "mm"
+    context = {"units": units, "oscillating": oscillating}
+    try:
+        design = Design.model_validate({**data, "source": doc.file}, context=context)
+    except ValidationError as exc:
+        raise _first_error(exc, doc, shaped) from None
+    except RuleViolation as exc:
+        yaml_path = shaped.yaml_path(exc.path)
+        got = doc.value_at(yaml_path) if exc.show_got else None
+        raise DesignError(
+            exc.error.problem,
+            location=Location(doc.file, doc.line_of(yaml_path), dotted(exc.path)),
+            got=got,
+            allowed=exc.error.allowed,
+            hint=exc.error.hint,
+            show_got=exc.show_got and got is not None,
+        ) from None
+    return design
+
+
+def _get(data: Any, *keys: str) -> Any:
+    for key in keys:
+        if not isinstance(data, dict):
+            return None
+        data = data.get(key)
+    return data
+
+
+class _Shaper:
+    """Structural pass: unknown keys (with suggestions), motion segments flattened, CSV read."""
+
+    def __init__(self, doc: SourceDocument) -> None:
+        self.doc = doc
+        self.segment_keys: dict[int, str] = {}
+
+    def yaml_path(self, model_path: Path_) -> Path_:
+        """Where a model path is in the file: ``motion[i].x`` lives under the segment's key."""
+        path = tuple(model_path)
+        if len(path) >= 2 and path[0] == "motion" and isinstance(path[1], int):
+            key = self.segment_keys.get(path[1])
+            if key is not None:
+                return (path[0], path[1], key, *path[2:])
+        return path
+
+    def fail(self, path: Path_, problem: str, **kwargs: Any) -> None:
+        yaml_path = self.yaml_path(path)
+        raise DesignError(problem, location=self.doc.locate(yaml_path, dotted(path)), **kwargs)
+
+    def keys(self, mapping: Any, allowed: tuple[str, ...], path: Path_, what: str) -> None:
+        if not isinstance(mapping, dict):
+            return
+        for key in mapping:
+            if key not in allowed:
+                match = difflib.get_close_matches(key, allowed, n=1, cutoff=0.6)
+                self.fail((*path, key), f"unknown key in {what}",
+                          hint=f"did you mean '{match[0]}'?" if match else None,
+                          allowed=", ".join(allowed))
+
+    def run(self) -> dict[str, Any]:
+        data = dict(self.doc.data)
+        self.keys(data, _TOP, (), "the design")
+        cam_type = _get(data, "cam", "type")
+        if cam_type in _CAM:
+            self.keys(data["cam"], _CAM[cam_type], ("cam",), f"a {cam_type} cam")
+            self.keys(_get(data, "cam", "keyway"), _KEYWAY, ("cam", "keyway"), "keyway")
+        follower = data.get("follower")
+        if isinstance(follower, dict):
+            self.keys(follower, _follower_keys(cam_type, follower), ("follower",),
+                      _follower_label(follower))
+        for section, allowed in _SECTIONS.items():
+            self.keys(data.get(section), allowed, (section,), section)
+        if "motion" in data:
+            data["motion"] = self._motion(data["motion"])
+        return data
+
+    def _motion(self, motion: Any) -> Any:
+        if not isinstance(motion, list):
+            self.fail(("motion",), "must be a list of segments (rise, dwell, return)",
+                      got=motion)
+        out = []
+        for i, item in enumerate(motion):
+            if not isinstance(item, dict) or len(item) != 1:
+                self.fail(("motion", i), "each segment is a one-key map such as "
+                          "'- rise: {angle: 120, lift: 40, law: harmonic}'", got=item)
+            (key, body), = item.items()
+            kind = SEGMENT_KINDS.get(key)
+            if kind is None:
+                match = difflib.get_close_matches(key, list(SEGMENT_KINDS), n=1, cutoff=0.5)
+                self.fail(("motion", i), f"unknown segment kind '{key}'",
+                          hint=f"did you mean '{match[0]}'?" if match else None,
+                          allowed="rise, return (fall), dwell")
+            self.segment_keys[i] = key
+            if not isinstance(body, dict):
+                self.fail(("motion", i), f"a {key} needs its data as a mapping "
+                          "(angle, lift, law)", got=body)
+            self._segment_params(i, kind, body)
+            self.keys(body, _segment_keys(kind, body.get("law")), ("motion", i), f"a {kind}")
+            for end in ("start", "end"):
+                self.keys(body.get(end), _CONDITIONS, ("motion", i, end), "boundary conditions")
+            body = dict(body)
+            if "csv" in body:
+                body["points"] = self._csv(i, body["csv"])
+            out.append({"kind": kind, **body})
+        return out
+
+    def _segment_params(self, i: int, kind: str, body: dict[str, Any]) -> None:
+        """Parameters that belong to other laws, named as such rather than as unknown keys."""
+        allowed = _segment_keys(kind, body.get("law"))
+        for key in body:
+            if key in allowed:
+                continue
+            if kind == "dwell" and key in ("lift", "law"):
+                self.fail(("motion", i, key), "a dwell has only an angle (no lift or law)")
+            owners = [law for law, params in _LAW_KEYS.items() if key in params]
+            if owners:
+                self.fail(("motion", i, key), f"only the {' and '.join(owners)} law"
+                          f"{'s' if len(owners) > 1 else ''} take{'' if len(owners) > 1 else 's'} "
+                          f"'{key}'", got=body.get("law"))
+
+    def _csv(self, index: int, name: Any) -> list[list[str]]:
+        path = ("motion", index, "csv")
+        if not isinstance(name, str) or not name.strip():
+            self.fail(path, "must be the path of a CSV file of angle, displacement rows", got=name)
+        if "points" in self.doc.value_at(self.yaml_path(("motion", index))):
+            self.fail(path, "give either points or csv, not both")
+        file = self.doc.folder / name
+        try:
+            text = file.read_text(encoding="utf-8-sig")
+        except (OSError, UnicodeDecodeError) as exc:
+            reason = getattr(exc, "strerror", None) or "not a UTF-8 text file"
+            self.fail(path, f"cannot read the table ({reason})", got=name)
+        rows = []
+        for number, line in enumerate(text.splitlines(), start=1):
+            cells = [c.strip() for c in line.replace(";", ",").split(",")]
+            if not line.strip() or line.lstrip().startswith("#"):
+                continue
+            if len(cells) < 2:
+                self.fail(path, f"row {number} of {name} needs two columns: angle, displacement")
+            try:
+                float(cells[0].split()[0])
+            except (ValueError, IndexError):
+                if not rows:
+                    continue  # a header row
+                self.fail(path, f"row {number} of {name} is not a number: {line.strip()[:40]!r}")
+            rows.append(cells[:2])
+        return rows
+
+
+def _follower_keys(cam_type: Any, follower: dict[str, Any]) -> tuple[str, ...]:
+    ftype = follower.get("type")
+    ftype = "mushroom" if ftype == "spherical" else ftype
+    motion = follower.get("motion", "translating")
+    keys = ["type", "motion", "mass"]
+    if motion == "oscillating":
+        keys += ["pivot_distance", "arm_length", "pivot_side"]
+        if ftype == "flat":
+            keys.append("face_offset")
+    else:
+        keys.append("offset")
+    keys += {"roller": ["roller_radius"], "mushroom": ["face_radius"],
+             "flat": ["face_width"]}.get(ftype, [])
+    if cam_type == "cylindrical":
+        keys.append("groove_clearance")
+    if ftype not in ("knife", "roller", "flat", "mushroom") or motion not in (
+            "translating", "oscillating"):
+        # the type itself is wrong: accept every follower key and let the type error speak
+        keys = ["type", "motion", "mass", "offset", "roller_radius", "face_radius", "face_width",
+                "pivot_distance", "arm_length", "pivot_side", "face_offset", "groove_clearance"]
+    return tuple(keys)
+
+
+def _follower_label(follower: dict[str, Any]) -> str:
+    motion = str(follower.get("motion", "translating"))
+    article = "an" if motion[:1] in "aeiou" else "a"
+    return f"{article} {motion} {follower.get('type', '')} follower"
+
+
+def _segment_keys(kind: str, law: Any) -> tuple[str, ...]:
+    if kind == "dwell":
+        return ("angle",)
+    from camfab.motion.laws import canonical_law_name
+
+    name = canonical_law_name(law) if isinstance(law, str) else None
+    if name is None:  # an unknown law is reported on its own; accept every law's parameters
+        return ("angle", "lift", "law", "blend", "start", "end", "points", "csv")
+    return ("angle", "lift", "law", *_LAW_KEYS.get(name, ()))
+
+
+_PYDANTIC_PROBLEMS = {
+    "missing": "required",
+    "extra_forbidden": "unknown key",
+    "string_type": "must be text",
+    "model_type": "must be a mapping of keys",
+    "model_attributes_type": "must be a mapping of keys",
+    "dict_type": "must be a mapping of keys",
+    "tuple_type": "must be a list",
+    "list_type": "must be a list",
+    "float_type": "must be a number",
+    "float_parsing": "must be a number",
+    "bool_type": "must be true or false",
+    "bool_parsing": "must be true or false",
+    "string_too_short": "must not be empty",
+    "string_too_long": "is too long",
+    "too_short": "must not be empty",
+}
+
+
+def _first_error(exc: ValidationError, doc: SourceDocument, shaped: _Shaper) -> DesignError:
+    """The pydantic error nearest the top of the file, as a camfab message."""
+    best: tuple[int, DesignError] | None = None
+    for err in exc.errors(include_url=False):
+        loc = tuple(p for p in err["loc"] if isinstance(p, int) or "[" not in str(p))
+        if loc and loc[-1] in ("float", "str", "function-before", "tagged-union"):
+            loc = loc[:-1]
+        yaml_path = shaped.yaml_path(loc)
+        line = doc.line_of(yaml_path)
+        problem, allowed, hint = _describe(err)
+        got = doc.value_at(yaml_path)
+        error = DesignError(
+            problem,
+            location=Location(doc.file, line, dotted(loc)),
+            got=got,
+            allowed=allowed,
+            hint=hint,
+            show_got=err["type"] != "missing" and got is not None,
+        )
+        key = line if line is not None else 10**9
+        if best is None or key < best[0]:
+            best = (key, error)
+    assert best is not None
+    return best[1]
+
+
+def _describe(err: Any) -> tuple[str, Any, str | None]:
+    kind = err["type"]
+    ctx = err.get("ctx") or {}
+    if kind == "camfab":
+        return ctx.get("problem", err["msg"]), ctx.get("allowed"), ctx.get("hint")
+    if kind == "literal_error":
+        expected = str(ctx.get("expected", ""))
+        choices = [c.strip(" '\"") for c in expected.replace(" or ", ", ").split(",") if c.strip()]
+        value = str(err.get("input"))
+        match = difflib.get_close_matches(value, choices, n=1, cutoff=0.5)
+        return ("unknown value", ", ".join(choices),
+                f"did you mean '{match[0]}'?" if match else None)
+    if kind == "greater_than":
+        return f"must be > {ctx.get('gt')}", None, None
+    if kind == "greater_than_equal":
+        return f"must be ≥ {ctx.get('ge')}", None, None
+    if kind == "less_than_equal":
+        return f"must be ≤ {ctx.get('le')}", None, None
+    if kind == "string_pattern_mismatch":
+        return "may only use a-z, 0-9, '.', '_' and '-'", None, None
+    if kind in _PYDANTIC_PROBLEMS:
+        return _PYDANTIC_PROBLEMS[kind], None, None
+    msg = str(err.get("msg", "is invalid"))
+    return msg[:1].lower() + msg[1:], None, None

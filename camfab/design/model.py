@@ -1,0 +1,329 @@
+"""The validated, immutable design: what a design file says, in internal units.
+
+Lengths are millimetres and angles radians (converted from the design's ``units`` and degrees at
+this boundary); ``speed_rpm`` is rpm, spring ``rate`` N/mm, ``preload`` N, ``damping`` N·s/m,
+``mass`` kg. Motion lifts are millimetres for translating followers and radians of swing for
+oscillating ones. Field names are the design file's keys (SPEC §3).
+
+Build a :class:`Design` with :func:`camfab.design.load_design` (from a file) or
+:func:`camfab.design.design_from_mapping`; both run the structural checks of the loader, the
+field validation here and the design rules of :mod:`camfab.design.rules`.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Annotated, Any, Literal
+
+from pydantic import (
+    BaseModel,
+    BeforeValidator,
+    ConfigDict,
+    Field,
+    ValidationInfo,
+    field_validator,
+    model_validator,
+)
+from pydantic_core import PydanticCustomError
+
+from camfab.design import units as U
+from camfab.errors import DesignError
+
+CamType = Literal["disc", "cylindrical", "circular-arc", "tangent", "groove", "conjugate", "linear"]
+FollowerType = Literal["knife", "roller", "flat", "mushroom"]
+OutputName = Literal["dxf", "svg", "stl", "report", "csv"]
+
+
+def _ctx(info: ValidationInfo) -> dict[str, Any]:
+    return info.context or {}
+
+
+def _as(kind: U.Kind) -> Any:
+    """A before-validator converting a design value of *kind* to internal units."""
+
+    def convert(value: Any, info: ValidationInfo) -> Any:
+        if value is None:
+            return None
+        try:
+            return U.convert(value, kind, _ctx(info).get("units", "mm"))
+        except DesignError as exc:
+            raise _custom(exc) from None
+
+    return BeforeValidator(convert)
+
+
+def _lift(value: Any, info: ValidationInfo) -> Any:
+    """A lift: a length for translating followers, an angle of swing for oscillating ones."""
+    if value is None:
+        return None
+    kind = U.ANGLE if _ctx(info).get("oscillating") else U.LENGTH
+    try:
+        return U.convert(value, kind, _ctx(info).get("units", "mm"))
+    except DesignError as exc:
+        raise _custom(exc) from None
+
+
+def _custom(exc: DesignError) -> PydanticCustomError:
+    """Carry a camfab message through pydantic so the loader can rebuild it with a location."""
+    return PydanticCustomError(
+        "camfab",
+        "{problem}",
+        {"problem": exc.problem, "allowed": exc.allowed, "hint": exc.hint},
+    )
+
+
+Length = Annotated[float, _as(U.LENGTH)]
+PositiveLength = Annotated[float, _as(U.LENGTH), Field(gt=0)]
+NonNegativeLength = Annotated[float, _as(U.LENGTH), Field(ge=0)]
+PositiveAngle = Annotated[float, _as(U.ANGLE), Field(gt=0)]
+Lift = Annotated[float, BeforeValidator(_lift), Field(gt=0)]
+
+
+class Frozen(BaseModel):
+    """Base of the design models: immutable, unknown keys rejected, no silent coercion of text."""
+
+    model_config = ConfigDict(frozen=True, extra="forbid", strict=False, validate_default=False)
+
+
+class Keyway(Frozen):
+    """A keyway cut into the bore, centred on +Y at θ = 0 (mm)."""
+
+    width: PositiveLength
+    depth: PositiveLength
+
+
+class Cam(Frozen):
+    """The cam body. Disc: ``base_radius`` (+ ``thickness``, ``bore``, ``keyway``).
+    Cylindrical: ``radius`` (outer), ``length``, ``groove_depth``, ``groove_start``, ``bore``."""
+
+    type: CamType
+    rotation: Literal["ccw", "cw"] = "ccw"
+    speed_rpm: Annotated[float, _as(U.SPEED), Field(gt=0)] | None = None
+    base_radius: PositiveLength | None = None
+    thickness: PositiveLength | None = None
+    bore: PositiveLength | None = None
+    keyway: Keyway | None = None
+    radius: PositiveLength | None = None
+    length: PositiveLength | None = None
+    groove_depth: PositiveLength | None = None
+    groove_start: Length | None = None
+
+    @property
+    def sigma(self) -> int:
+        """+1 for a counter-clockwise cam, −1 for clockwise (SPEC §2)."""
+        return 1 if self.rotation == "ccw" else -1
+
+    @property
+    def omega(self) -> float | None:
+        """Angular speed in rad/s, or None without ``speed_rpm``."""
+        return None if self.speed_rpm is None else self.speed_rpm * 2.0 * math.pi / 60.0
+
+
+class Follower(Frozen):
+    """The follower: contact shape (``type``) and ``motion`` with their dimensions (mm, kg)."""
+
+    type: FollowerType
+    motion: Literal["translating", "oscillating"] = "translating"
+    offset: Length = 0.0
+    roller_radius: PositiveLength | None = None
+    face_radius: PositiveLength | None = None
+    face_width: PositiveLength | None = None
+    pivot_distance: PositiveLength | None = None
+    arm_length: PositiveLength | None = None
+    pivot_side: Literal["right", "left"] = "right"
+    face_offset: Length = 0.0
+    groove_clearance: NonNegativeLength = 0.0
+    mass: Annotated[float, _as(U.MASS), Field(gt=0)] | None = None
+
+    @field_validator("type", mode="before")
+    @classmethod
+    def _spherical(cls, value: Any) -> Any:
+        return "mushroom" if value == "spherical" else value
+
+    @property
+    def oscillating(self) -> bool:
+        return self.motion == "oscillating"
+
+    @property
+    def trace_radius(self) -> float:
+        """Distance from the trace point to the contact surface: Rp − Rb (mm)."""
+        if self.type == "roller":
+            return self.roller_radius or 0.0
+        if self.type == "mushroom":
+            return self.face_radius or 0.0
+        return 0.0
+
+
+class Conditions(Frozen):
+    """Boundary conditions of a polynomial or table segment at one end.
+
+    Values are derivatives of the lift per radian of cam angle (mm/rad, mm/rad², mm/rad³; rad/rad…
+    for oscillating followers), or ``"match"`` to take the neighbouring segment's value.
+    """
+
+    velocity: float | str | None = None
+    acceleration: float | str | None = None
+    jerk: float | str | None = None
+
+    @field_validator("velocity", "acceleration", "jerk", mode="before")
+    @classmethod
+    def _value(cls, value: Any, info: ValidationInfo) -> Any:
+        if value is None or (isinstance(value, str) and value.strip().lower() == "match"):
+            return None if value is None else "match"
+        order = {"velocity": 1, "acceleration": 2, "jerk": 3}[info.field_name or "velocity"]
+        lift_kind = U.ANGLE if _ctx(info).get("oscillating") else U.LENGTH
+        try:
+            return U.convert(value, U.angle_rate(order, lift_kind), _ctx(info).get("units", "mm"))
+        except DesignError as exc:
+            raise _custom(DesignError(exc.problem + " or 'match'", allowed=exc.allowed)) from None
+
+    def items(self) -> list[tuple[int, float | str]]:
+        """(order, value) for each condition given."""
+        given = ((1, self.velocity), (2, self.acceleration), (3, self.jerk))
+        return [(order, value) for order, value in given if value is not None]
+
+
+def _point(value: Any, info: ValidationInfo) -> Any:
+    """A table/polynomial point ``[angle, displacement]`` -> (radians, mm or radians)."""
+    if not isinstance(value, (list, tuple)) or len(value) != 2:
+        raise PydanticCustomError(
+            "camfab", "{problem}",
+            {"problem": "must be a pair [angle, displacement]", "allowed": None, "hint": None},
+        )
+    ctx = _ctx(info)
+    lift_kind = U.ANGLE if ctx.get("oscillating") else U.LENGTH
+    try:
+        return (
+            U.convert(value[0], U.ANGLE, ctx.get("units", "mm")),
+            U.convert(value[1], lift_kind, ctx.get("units", "mm")),
+        )
+    except DesignError as exc:
+        raise _custom(exc) from None
+
+
+Point = Annotated[tuple[float, float], BeforeValidator(_point)]
+
+
+class Segment(Frozen):
+    """One segment of the motion program (``kind`` comes from the one-key map in the file)."""
+
+    kind: Literal["rise", "return", "dwell"]
+    angle: PositiveAngle
+    lift: Lift | None = None
+    law: str | None = None
+    blend: Annotated[float, Field(gt=0, le=0.5)] | None = None
+    start: Conditions | None = None
+    end: Conditions | None = None
+    points: tuple[Point, ...] | None = None
+    csv: str | None = None
+
+    @field_validator("law", mode="before")
+    @classmethod
+    def _canonical_law(cls, value: Any) -> Any:
+        from camfab.motion.laws import LAW_NAMES, canonical_law_name
+
+        if not isinstance(value, str):
+            raise PydanticCustomError(
+                "camfab", "{problem}",
+                {"problem": "must be a law name", "allowed": LAW_NAMES, "hint": None},
+            )
+        name = canonical_law_name(value)
+        if name is None:
+            raise PydanticCustomError(
+                "camfab", "{problem}",
+                {"problem": "unknown motion law", "allowed": LAW_NAMES,
+                 "hint": _did_you_mean(value, [*LAW_NAMES, *_law_aliases()])},
+            )
+        return name
+
+
+def _law_aliases() -> list[str]:
+    from camfab.motion.laws import ALIASES
+
+    return list(ALIASES)
+
+
+def _did_you_mean(word: str, choices: list[str]) -> str | None:
+    import difflib
+
+    match = difflib.get_close_matches(word.lower(), choices, n=1, cutoff=0.6)
+    return f"did you mean '{match[0]}'?" if match else None
+
+
+class Spring(Frozen):
+    """The return spring of a force-closed cam: ``rate`` N/mm, ``preload`` N at zero lift (or
+    ``initial_compression`` mm), ``damping`` N·s/m, ``external_load`` N toward the cam."""
+
+    rate: Annotated[float, _as(U.RATE), Field(gt=0)]
+    preload: Annotated[float, _as(U.FORCE), Field(ge=0)] | None = None
+    initial_compression: NonNegativeLength | None = None
+    gravity: bool = False
+    damping: Annotated[float, _as(U.DAMPING), Field(ge=0)] = 0.0
+    external_load: Annotated[float, _as(U.FORCE)] = 0.0
+
+    @field_validator("gravity", mode="before")
+    @classmethod
+    def _boolean(cls, value: Any) -> Any:
+        if not isinstance(value, bool):
+            raise PydanticCustomError(
+                "camfab", "{problem}",
+                {"problem": "must be true or false", "allowed": None, "hint": None},
+            )
+        return value
+
+
+class Limits(Frozen):
+    """Design limits: ``pressure_angle`` (rad; default 30° translating, 35° oscillating) and an
+    extra ``min_radius_of_curvature`` margin (mm) on the convex working curve."""
+
+    pressure_angle: PositiveAngle | None = None
+    min_radius_of_curvature: NonNegativeLength = 0.0
+
+
+#: Default chord tolerance of exported curves: a thousandth of a millimetre, well inside what a
+#: laser, water jet or mill holds, so the exported file never limits the part's accuracy.
+DEFAULT_TOLERANCE_MM = 0.001
+
+
+class Manufacturing(Frozen):
+    """Manufacturing settings (mm): export ``tolerance``, laser ``kerf``, CNC ``cutter_radius``."""
+
+    tolerance: PositiveLength = DEFAULT_TOLERANCE_MM
+    kerf: NonNegativeLength = 0.0
+    cutter_radius: NonNegativeLength = 0.0
+
+
+class Design(Frozen):
+    """A whole cam design, validated."""
+
+    name: Annotated[str, Field(min_length=1, max_length=100, pattern=r"^[a-z0-9._-]+$")]
+    description: str = ""
+    units: Literal["mm", "in"] = "mm"
+    cam: Cam
+    follower: Follower
+    motion: Annotated[tuple[Segment, ...], Field(min_length=1)]
+    spring: Spring | None = None
+    limits: Limits = Limits()
+    manufacturing: Manufacturing = Manufacturing()
+    outputs: tuple[OutputName, ...] | None = None
+    table_step: PositiveAngle = math.radians(1.0)
+    source: str = Field(default="", exclude=True)
+
+    @model_validator(mode="after")
+    def _rules(self) -> Design:
+        from camfab.design.rules import check_rules
+
+        check_rules(self)
+        return self
+
+    @property
+    def pressure_angle_limit(self) -> float:
+        """The pressure-angle limit in radians (SPEC §3 defaults when not given)."""
+        if self.limits.pressure_angle is not None:
+            return self.limits.pressure_angle
+        return math.radians(35.0 if self.follower.oscillating else 30.0)
+
+    @property
+    def mm_per_unit(self) -> float:
+        """Millimetres per design length unit (1 or 25.4)."""
+        return U.MM_PER_UNIT[self.units]

@@ -1,0 +1,164 @@
+"""Numbers with units in design files, converted once to camfab's internal units.
+
+A design value is a bare number in its default unit or a string with a unit (``"1.5 in"``,
+``"24 N/mm"``, ``"600 rpm"``). Internally camfab works in millimetres and radians; the other
+quantities keep the unit their name states (``speed_rpm`` in rpm, spring ``rate`` in N/mm).
+
+pint is imported only when a value carries a unit, so designs written in bare numbers load without
+paying for its import.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import lru_cache
+from typing import Any
+
+from camfab.errors import DesignError
+
+MM_PER_UNIT = {"mm": 1.0, "in": 25.4}
+
+
+@dataclass(frozen=True)
+class Kind:
+    """A kind of quantity: its pint dimensionality, internal unit and default design unit."""
+
+    name: str  # how messages call it: "a length"
+    internal: str  # pint unit of the internal value
+    default: str | None  # pint unit of a bare number (None: the design's length unit)
+    dimensionality: str | None  # pint dimensionality to check (None: an angle, checked by name)
+    examples: str
+
+
+LENGTH = Kind("a length", "mm", None, "[length]", "mm, in, cm, m")
+ANGLE = Kind("an angle", "radian", "degree", None, "deg, rad, turn")
+SPEED = Kind("a rotational speed", "rpm", "rpm", "1/[time]", "rpm, rev/s, rad/s, deg/s")
+MASS = Kind("a mass", "kg", "kg", "[mass]", "kg, g, lb")
+FORCE = Kind("a force", "N", "N", "[force]", "N, kN, lbf")
+RATE = Kind("a spring rate", "N/mm", "N/mm", "[force]/[length]", "N/mm, N/m, lbf/in")
+DAMPING = Kind("a damping coefficient", "N*s/m", "N*s/m", "[force]*[time]/[length]", "N*s/m")
+
+_ANGLE_UNITS = ("degree", "radian", "revolution", "turn", "arcminute", "arcsecond", "gradian")
+
+
+def angle_rate(order: int, lift_kind: Kind) -> Kind:
+    """The kind of the *order*-th derivative of a lift of *lift_kind* per radian of cam angle."""
+    per = "/radian" if order == 1 else f"/radian**{order}"
+    if lift_kind is ANGLE:
+        return Kind(
+            f"an angle per radian{'' if order == 1 else f'^{order}'}",
+            f"radian{per}", f"radian{per}", None, f"rad{per.replace('radian', 'rad')}",
+        )
+    return Kind(
+        f"a length per radian{'' if order == 1 else f'^{order}'}",
+        f"mm{per}", None, "[length]", f"mm{per.replace('radian', 'rad')}",
+    )
+
+
+@lru_cache(maxsize=1)
+def registry() -> Any:
+    """The shared pint registry, created on first use (it costs a few tenths of a second)."""
+    import pint
+
+    return pint.UnitRegistry()
+
+
+def convert(raw: object, kind: Kind, design_units: str = "mm") -> float:
+    """Convert a design value to *kind*'s internal unit.
+
+    Parameters
+    ----------
+    raw
+        What the design file holds: a number, or a string such as ``"1.5 in"``.
+    kind
+        The quantity expected (``LENGTH``, ``ANGLE``, ...).
+    design_units
+        The design's ``units`` (``mm`` or ``in``): the default unit of bare lengths.
+
+    Raises
+    ------
+    DesignError
+        Not a number, an unknown unit, or a unit of the wrong kind.
+    """
+    if isinstance(raw, bool) or not isinstance(raw, (int, float, str)):
+        raise DesignError(f"must be {kind.name}", got=raw, allowed=_allowed(kind))
+    if isinstance(raw, str):
+        text = raw.strip()
+        try:
+            number = float(text)
+        except ValueError:
+            return _convert_text(text, raw, kind, design_units)
+    else:
+        number = float(raw)
+    _check_finite(number, raw, kind)
+    return number * _default_factor(kind, design_units)
+
+
+def _convert_text(text: str, raw: str, kind: Kind, design_units: str) -> float:
+    if not text:
+        raise DesignError(f"must be {kind.name}", got=raw, allowed=_allowed(kind))
+    if not any(ch.isdigit() for ch in text):
+        raise DesignError(f"must be {kind.name}", got=raw, allowed=_allowed(kind))
+    ureg = registry()
+    try:
+        quantity = ureg.Quantity(text)
+    except Exception as exc:  # pint's parser raises many types on free text; all mean "bad value"
+        unknown = getattr(exc, "unit_names", None)
+        if unknown:
+            name = unknown if isinstance(unknown, str) else ", ".join(map(str, unknown))
+            raise DesignError(
+                f"unknown unit '{name}'", got=raw, allowed=_allowed(kind)
+            ) from None
+        raise DesignError(
+            f"must be {kind.name} (a number, optionally with a unit)", got=raw,
+            allowed=_allowed(kind),
+        ) from None
+    if not hasattr(quantity, "magnitude"):  # a plain number came back
+        return convert(float(quantity), kind, design_units)
+    try:
+        magnitude = float(quantity.magnitude)
+    except (TypeError, ValueError):
+        raise DesignError(f"must be {kind.name}", got=raw, allowed=_allowed(kind)) from None
+    _check_finite(magnitude, raw, kind)
+    names = str(quantity.units)
+    if quantity.unitless and not any(n in names for n in _ANGLE_UNITS):
+        return magnitude * _default_factor(kind, design_units)
+    if not _has_kind(quantity, kind):
+        raise DesignError(
+            f"must be {kind.name}, not {_describe(quantity)}", got=raw, allowed=_allowed(kind)
+        )
+    return float(quantity.to(kind.internal).magnitude)
+
+
+def _has_kind(quantity: Any, kind: Kind) -> bool:
+    names = str(quantity.units)
+    if kind.dimensionality is None:  # angles (and angle rates): dimensionless in pint
+        return bool(quantity.dimensionless) and any(n in names for n in _ANGLE_UNITS)
+    if kind is SPEED:
+        # rpm is revolution/minute; a bare frequency (Hz, 1/s) does not say what turns.
+        turning = (*_ANGLE_UNITS, "revolutions_per_minute", "revolutions_per_second")
+        return bool(quantity.check(kind.dimensionality)) and any(n in names for n in turning)
+    return bool(quantity.check(kind.dimensionality))
+
+
+def _describe(quantity: Any) -> str:
+    dims = str(quantity.dimensionality)
+    return f"'{quantity.units:~}' ({dims})" if dims != "dimensionless" else f"'{quantity.units:~}'"
+
+
+def _default_factor(kind: Kind, design_units: str) -> float:
+    if kind.default is None:  # a length or a length rate: the design's length unit
+        return MM_PER_UNIT[design_units]
+    if kind is ANGLE:
+        return math.pi / 180.0
+    return 1.0
+
+
+def _check_finite(value: float, raw: object, kind: Kind) -> None:
+    if not math.isfinite(value):
+        raise DesignError(f"must be a finite number ({kind.name})", got=raw)
+
+
+def _allowed(kind: Kind) -> str:
+    return f"a number or a string with a unit such as {kind.examples}"

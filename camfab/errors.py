@@ -1,0 +1,126 @@
+"""The errors camfab raises.
+
+Every error derives from :class:`CamfabError`; the subclasses also inherit the matching builtin so
+callers can catch ``ValueError`` or ``OSError`` as usual. Errors carry their fields and build the
+message from them; the command line prints ``str(error)`` as its one line and exits with status 2.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+
+class CamfabError(Exception):
+    """Base of every error camfab raises on purpose."""
+
+
+@dataclass(frozen=True)
+class Location:
+    """Where in a design file something is: file name, 1-based line, dotted field path."""
+
+    file: str
+    line: int | None
+    field: str
+
+    def __str__(self) -> str:
+        where = self.file if self.line is None else f"{self.file}:{self.line}"
+        return f"{where}: {self.field}" if self.field else where
+
+
+class DesignError(CamfabError, ValueError):
+    """An invalid design: one line ``FILE:LINE: field.path: problem (got X; allowed ...)``.
+
+    Parameters
+    ----------
+    problem
+        What is wrong, phrased as the rule that is broken ("must be > 0").
+    location
+        Where it is; filled in by the loader when raised without one.
+    got
+        The offending value as the user wrote it (``None``: not shown).
+    allowed
+        The valid choices or range, shown after ``allowed:``.
+    hint
+        A suggestion such as ``did you mean 'cycloidal'?``.
+    """
+
+    def __init__(
+        self,
+        problem: str,
+        *,
+        field: str = "",
+        location: Location | None = None,
+        got: object = None,
+        allowed: Sequence[str] | str | None = None,
+        hint: str | None = None,
+        show_got: bool = True,
+    ) -> None:
+        self.problem = problem
+        self.field = field or (location.field if location else "")
+        self.location = location
+        self.got = got
+        self.allowed = allowed
+        self.hint = hint
+        self.show_got = show_got and got is not None
+        super().__init__(self._message())
+
+    def located(self, location: Location) -> DesignError:
+        """The same error placed at *location*."""
+        return DesignError(
+            self.problem,
+            location=location,
+            got=self.got,
+            allowed=self.allowed,
+            hint=self.hint,
+            show_got=self.show_got,
+        )
+
+    def _message(self) -> str:
+        parts = []
+        if self.show_got:
+            parts.append(f"got {_show(self.got)}")
+        if self.hint:
+            parts.append(self.hint)
+        if self.allowed:
+            allowed = self.allowed if isinstance(self.allowed, str) else ", ".join(self.allowed)
+            parts.append(f"allowed: {allowed}")
+        detail = f" ({'; '.join(parts)})" if parts else ""
+        if self.location is not None:
+            head = str(self.location)
+        else:
+            head = self.field
+        text = f"{head}: {self.problem}{detail}" if head else f"{self.problem}{detail}"
+        return " ".join(text.split())  # always one line
+
+
+class DesignFileError(CamfabError, OSError):
+    """A design file that cannot be read at all (missing, a folder, not text)."""
+
+    def __init__(self, file: str, problem: str) -> None:
+        self.file = file
+        self.problem = problem
+        super().__init__(f"{file}: {problem}")
+
+
+class OutputError(CamfabError, OSError):
+    """Outputs that cannot be written (no permission, disk full, a file in the way)."""
+
+
+def _show(value: object) -> str:
+    """A short, one-line rendering of a user value for messages."""
+    if isinstance(value, str):
+        text = repr(value)
+    elif isinstance(value, bool):
+        text = "true" if value else "false"
+    elif value is None:
+        text = "null"
+    elif isinstance(value, float):
+        text = f"{value:g}"
+    elif isinstance(value, dict):
+        text = "a mapping {" + ", ".join(str(k) for k in list(value)[:4]) + "}"
+    elif isinstance(value, (list, tuple)):
+        text = f"a list of {len(value)}"
+    else:
+        text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."

@@ -1,0 +1,1 @@
+"""Exporters: each turns an analysis into the bytes of one file; the pipeline writes them."""

@@ -1,0 +1,45 @@
+"""``NAME-motion.csv``: the follower motion at every ``table_step`` of cam angle (SPEC §5).
+
+Rows run from 0 to 360° − step. Where a value steps exactly at a row, the row gives the value just
+after the step. Columns a later stage of camfab fills (pressure angle, pitch radius of curvature)
+are present and empty until geometry is computed.
+"""
+
+from __future__ import annotations
+
+import io
+import math
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from camfab.pipeline import Analysis
+
+
+def motion_table(analysis: Analysis) -> tuple[list[str], np.ndarray]:
+    """Column names and the (rows, columns) array of values (NaN where not computed)."""
+    design, units = analysis.design, analysis.units
+    count = round(2 * math.pi / design.table_step)
+    theta = np.arange(count) * (2 * math.pi / count)
+    s = analysis.program.evaluate(theta)
+    omega = design.cam.omega
+    columns = ["cam_angle_deg", units.displacement_column]
+    values = [np.degrees(theta), np.degrees(s[0]) if units.oscillating else s[0]]
+    if omega is not None:
+        for order in (1, 2, 3):
+            columns.append(units.key(order))
+            values.append(units.to_si(order, s[order], omega))
+    columns += ["pressure_angle_deg", "pitch_radius_of_curvature_mm"]
+    values += [np.full(count, np.nan), np.full(count, np.nan)]
+    return columns, np.column_stack(values)
+
+
+def render_motion_csv(analysis: Analysis) -> bytes:
+    """The motion table as CSV bytes (``\\n`` line ends, 10 significant digits)."""
+    columns, table = motion_table(analysis)
+    out = io.StringIO()
+    out.write(",".join(columns) + "\n")
+    for row in table:
+        out.write(",".join("" if not math.isfinite(v) else f"{v + 0.0:.10g}" for v in row) + "\n")
+    return out.getvalue().encode("ascii")

@@ -1,0 +1,148 @@
+"""The pipeline: design -> analysis -> artifacts (bytes) -> files, written atomically.
+
+Exporters only serialise; this module decides which files a design gets and writes them through
+temporary files renamed into place, so an interrupted or failed build leaves earlier outputs intact.
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from camfab.analysis.findings import Finding, exit_status
+from camfab.analysis.kinematics import MotionUnits, SegmentStats, continuity_findings, segment_stats
+from camfab.design import Design, load_design
+from camfab.errors import OutputError
+from camfab.motion.program import MotionProgram, build_program
+
+#: Every output a design may ask for, in the order files are listed.
+ALL_OUTPUTS = ("dxf", "svg", "stl", "report", "csv")
+
+
+@dataclass(frozen=True)
+class Analysis:
+    """Everything computed about a design, before any file is made."""
+
+    design: Design
+    program: MotionProgram
+    units: MotionUnits
+    segments: list[SegmentStats]
+    findings: list[Finding]
+
+    @property
+    def exit_code(self) -> int:
+        """0 when every error-severity check passed, 1 otherwise."""
+        return exit_status(self.findings)
+
+
+def analyse(design: Design) -> Analysis:
+    """Compute the motion, its kinematics and the checks of *design*."""
+    program = build_program(design.motion)
+    units = MotionUnits(design.follower.oscillating)
+    omega = design.cam.omega
+    findings, steps = continuity_findings(program, units, omega)
+    stats = segment_stats(program, steps, units, omega)
+    return Analysis(design, program, units, stats, findings)
+
+
+def _report_json(analysis: Analysis) -> bytes:
+    from camfab.export.report_json import render_report_json
+
+    return render_report_json(analysis)
+
+
+def _motion_csv(analysis: Analysis) -> bytes:
+    from camfab.export.motion_csv import render_motion_csv
+
+    return render_motion_csv(analysis)
+
+
+#: output name -> [(file suffix, renderer)]; outputs without an entry are not produced yet.
+RENDERERS: dict[str, list[tuple[str, Callable[[Analysis], bytes]]]] = {
+    "report": [("-report.json", _report_json)],
+    "csv": [("-motion.csv", _motion_csv)],
+}
+
+
+@dataclass(frozen=True)
+class Artifacts:
+    """The files of one build, as bytes by file name, and the requested outputs not produced."""
+
+    files: dict[str, bytes]
+    not_produced: tuple[str, ...] = field(default_factory=tuple)
+
+
+def render(analysis: Analysis) -> Artifacts:
+    """The bytes of every file the design asks for (all that apply by default)."""
+    requested = analysis.design.outputs or ALL_OUTPUTS
+    files: dict[str, bytes] = {}
+    missing = []
+    for output in ALL_OUTPUTS:
+        if output not in requested:
+            continue
+        if output not in RENDERERS:
+            missing.append(output)
+            continue
+        for suffix, renderer in RENDERERS[output]:
+            files[analysis.design.name + suffix] = renderer(analysis)
+    return Artifacts(files, tuple(missing))
+
+
+def write_files(folder: Path, files: Mapping[str, bytes]) -> list[Path]:
+    """Write *files* into *folder* atomically: all to temporary files first, then renamed.
+
+    Raises
+    ------
+    OutputError
+        The folder or a file cannot be written; no file of *files* is changed then.
+    """
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise OutputError(f"{folder}: cannot create the output folder ({exc.strerror})") from None
+    temps: list[tuple[Path, Path]] = []
+    try:
+        for name, data in files.items():
+            handle, temp = tempfile.mkstemp(prefix=f".{name}.", suffix=".tmp", dir=folder)
+            temps.append((Path(temp), folder / name))
+            with os.fdopen(handle, "wb") as stream:
+                stream.write(data)
+        for temp, final in temps:
+            os.replace(temp, final)
+    except OSError as exc:
+        for temp, _ in temps:
+            temp.unlink(missing_ok=True)
+        raise OutputError(f"{folder}: cannot write the outputs ({exc.strerror or exc})") from None
+    return [final for _, final in temps]
+
+
+@dataclass(frozen=True)
+class BuildResult:
+    """What one build did."""
+
+    analysis: Analysis
+    folder: Path
+    written: list[Path]
+    not_produced: tuple[str, ...]
+
+    @property
+    def exit_code(self) -> int:
+        return self.analysis.exit_code
+
+
+def output_folder(design: Design, out_dir: Path | None) -> Path:
+    """``exports/<name>/`` under the working directory, or *out_dir* when given."""
+    return out_dir if out_dir is not None else Path("exports") / design.name
+
+
+def build(path: str | Path, out_dir: Path | None = None) -> BuildResult:
+    """Load, analyse, render and write one design file."""
+    design = load_design(path)
+    analysis = analyse(design)
+    artifacts = render(analysis)
+    folder = output_folder(design, out_dir)
+    written = write_files(folder, artifacts.files)
+    return BuildResult(analysis, folder, written, artifacts.not_produced)

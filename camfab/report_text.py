@@ -1,0 +1,79 @@
+"""Readable terminal summaries (``camfab check``, ``camfab laws``) with rich tables."""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING
+
+from rich.console import Console
+from rich.table import Table
+
+if TYPE_CHECKING:
+    from camfab.pipeline import Analysis
+
+
+def _console() -> Console:
+    return Console(highlight=False, soft_wrap=False, width=120)
+
+
+def _num(value: float | None, digits: int = 4) -> str:
+    if value is None or not math.isfinite(value):
+        return "∞"
+    return f"{value:.{digits}g}"
+
+
+def print_summary(analysis: Analysis) -> None:
+    """The design, its motion program with peak kinematics, and every check."""
+    from camfab.analysis.findings import count
+
+    design, units = analysis.design, analysis.units
+    console = _console()
+    cam, fol = design.cam, design.follower
+    speed = f"{cam.speed_rpm:g} rpm" if cam.speed_rpm else "no speed given"
+    console.print(f"[bold]{design.name}[/bold] — {cam.type} cam, {cam.rotation}, {speed}; "
+                  f"{fol.motion} {fol.type} follower")
+    if design.description:
+        console.print(design.description)
+    with_speed = cam.omega is not None
+    table = Table(title="motion program", title_justify="left")
+    for name in ("#", "segment", "law", "θ (deg)", units.lift_key.replace("_", " ")):
+        table.add_column(name)
+    for order, label in ((1, "v"), (2, "a"), (3, "j")):
+        table.add_column(f"max {label} ({units.unit(order, with_speed)})", justify="right")
+    for stats in analysis.segments:
+        peaks = stats.max_si if stats.max_si is not None else stats.max_per_rad
+        table.add_row(str(stats.index), stats.kind, stats.law,
+                      f"{stats.start_deg:g}–{stats.end_deg:g}", f"{stats.lift:.6g}",
+                      *(_num(v) for v in peaks))
+    console.print(table)
+    for finding in analysis.findings:
+        mark = "[green]✔[/green]" if finding.ok else (
+            "[red]✖[/red]" if finding.severity == "error" else "[yellow]![/yellow]")
+        console.print(f"{mark} {finding.id}: {finding.message}")
+    errors, warnings = count(analysis.findings, "error"), count(analysis.findings, "warning")
+    verdict = "[red]FAIL[/red]" if analysis.exit_code else "[green]OK[/green]"
+    console.print(f"{verdict}: {errors} error(s), {warnings} warning(s)")
+
+
+def laws_table() -> None:
+    """Every motion law with aliases, Cv, Ca, Cj and its continuity next to dwells."""
+    from camfab.motion.laws import LAWS, standard_law
+
+    table = Table(title="motion laws (peak coefficients of the normalised rise f(u))",
+                  title_justify="left")
+    for name in ("law", "aliases", "Cv", "Ca", "Cj", "continuity"):
+        table.add_column(name, justify="right" if name in ("Cv", "Ca", "Cj") else "left")
+    for info in LAWS:
+        try:
+            law = standard_law(info.name)
+        except KeyError:  # polynomial and table: they depend on the design's data
+            cv = ca = cj = "by data"
+        else:
+            cv, ca, cj = (_num(c) for c in law.coefficients)
+            if info.name == "uniform-velocity":
+                ca, cj = "∞ at ends", "—"
+        aliases = ", ".join(info.aliases)
+        if info.params:
+            aliases = (aliases + "; " if aliases else "") + "takes " + ", ".join(info.params)
+        table.add_row(info.name, aliases, cv, ca, cj, info.continuity)
+    _console().print(table)
