@@ -83,13 +83,13 @@ def segment_stats(program: MotionProgram, steps: list[Step], units: MotionUnits,
     """Per-segment peaks of s′, s″, s‴ and, with a speed, of v, a, j."""
     unbounded = unbounded_orders(program, steps)
     out = []
-    for seg, bad in zip(program.segments, unbounded):
+    for seg, bad in zip(program.segments, unbounded, strict=True):
         per_rad = tuple(None if (o in bad or not math.isfinite(seg.peak(o))) else seg.peak(o)
                         for o in (1, 2, 3))
         si = None
         if omega is not None:
             si = tuple(None if v is None else units.to_si(o, v, omega)
-                       for o, v in zip((1, 2, 3), per_rad))
+                       for o, v in zip((1, 2, 3), per_rad, strict=True))
         out.append(SegmentStats(
             index=seg.index, kind=seg.kind, law=seg.law_name,
             start_deg=degrees(seg.start), end_deg=degrees(seg.end),

@@ -82,7 +82,7 @@ def _segment(stats: Any, analysis: Analysis) -> dict[str, Any]:
         out[f"max_{units.key(order)}"] = value
     for order in (1, 2, 3):
         out[units.per_rad_key(order)] = stats.max_per_rad[order - 1]
-    out["law_coefficients"] = dict(zip(("Cv", "Ca", "Cj"), stats.coefficients))
+    out["law_coefficients"] = dict(zip(("Cv", "Ca", "Cj"), stats.coefficients, strict=True))
     out["max_pressure_angle_deg"] = None
     return out
 

@@ -51,7 +51,8 @@ class ModifiedUniformVelocity(Law):
         r, k = self.blend, self._k
         start, end = u < r, u >= 1.0 - r
         w = 1.0 - u
-        f = np.where(start, k * u * u / 2, np.where(end, 1.0 - k * w * w / 2, (u - r / 2) / (1 - r)))
+        middle = (u - r / 2) / (1 - r)
+        f = np.where(start, k * u * u / 2, np.where(end, 1.0 - k * w * w / 2, middle))
         f1 = np.where(start, k * u, np.where(end, k * w, 1.0 / (1 - r)))
         f2 = np.where(start, k, np.where(end, -k, 0.0))
         return np.stack([f, f1, f2, np.zeros_like(u)])

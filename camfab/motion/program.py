@@ -1,13 +1,14 @@
-"""Motion programs: a cycle of rise, dwell and return segments as s(θ), s′, s″, s‴.
+"""Motion programs: a cycle of rise, dwell and return segments as s(θ) and its derivatives.
 
 θ is the cam angle in radians from the start of the program (0 ≤ θ < 2π, wrapped), and the
-derivatives are per radian of cam angle. s is in millimetres for translating followers and radians
-of swing for oscillating ones. Where a derivative steps at a segment boundary, evaluation returns the
-value just after it (the limit from increasing θ).
+derivatives are per radian of cam angle. s is in millimetres for translating followers and
+radians of swing for oscillating ones. Where a derivative steps at a segment boundary, evaluation
+returns the value just after it (the limit from increasing θ).
 """
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -164,9 +165,10 @@ def build_program(specs: Sequence[SegmentSpec]) -> MotionProgram:
     placed = _place(specs)
     builder = _LawBuilder(specs, placed)
     laws = builder.build_all()
+    rows = zip(specs, placed, laws, strict=True)
     segments = [
         ProgramSegment(i, spec.kind, name, law, start, spec.angle, s0, delta)
-        for i, (spec, (start, s0, delta), (name, law)) in enumerate(zip(specs, placed, laws))
+        for i, (spec, (start, s0, delta), (name, law)) in enumerate(rows)
     ]
     return MotionProgram(segments)
 
@@ -303,7 +305,7 @@ class _LawBuilder:
             if disp < -POINT_SLACK:
                 raise ProgramError(i, f"points[{k}]", "displacement below zero")
         u = [p[0] for p in out]
-        if any(b <= a for a, b in zip(u, u[1:])):
+        if any(b <= a for a, b in itertools.pairwise(u)):
             raise ProgramError(i, "points", "the angles must increase strictly")
         return out
 

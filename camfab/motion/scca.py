@@ -35,7 +35,8 @@ class _Zone:
         s, c = np.sin(k * t), np.cos(k * t)
         acc = a + b * s + g * c
         vel = self.v0 + a * t + (b / k) * (1.0 - c) + (g / k) * s
-        disp = self.f0 + self.v0 * t + a * t * t / 2.0 + (b / k) * (t - s / k) + (g / k**2) * (1.0 - c)
+        disp = (self.f0 + self.v0 * t + a * t * t / 2.0
+                + (b / k) * (t - s / k) + (g / k**2) * (1.0 - c))
         jerk = b * k * c - g * k * s
         return np.stack([disp, vel, acc, jerk])
 

@@ -1,0 +1,154 @@
+"""Bad input: one line naming the file, line and field, exit status 2, no traceback, nothing
+written. Each case is a distinct mistake a designer makes."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import pytest
+
+from .conftest import DESIGNS, run_cli
+
+BASE = """\
+name: bad-design
+units: mm
+cam:
+  type: disc
+  rotation: ccw
+  speed_rpm: 1000
+  base_radius: 20
+  thickness: 10
+  bore: 10
+follower:
+  type: roller
+  motion: translating
+  offset: 10
+  roller_radius: 7
+motion:
+  - rise:   {angle: 120, lift: 40, law: harmonic}
+  - dwell:  {angle: 60}
+  - return: {angle: 80, law: uniform-acceleration}
+  - dwell:  {angle: 100}
+"""
+
+# (id, old text, new text, line, field, words the message must contain)
+CASES = [
+    ("unknown-top-key", "units: mm", "unit: mm", 2, "unit", "did you mean 'units'"),
+    ("unknown-cam-key", "  bore: 10", "  boar: 10", 9, "cam.boar", "did you mean 'bore'"),
+    ("unknown-follower-key", "  roller_radius: 7", "  roller_radis: 7", 14,
+     "follower.roller_radis", "did you mean 'roller_radius'"),
+    ("unknown-law", "law: harmonic", "law: cycloid", 16, "motion[0].law", "'cycloidal'"),
+    ("unknown-segment", "  - dwell:  {angle: 60}", "  - dwel:  {angle: 60}", 17, "motion[1]",
+     "did you mean 'dwell'"),
+    ("negative-angle", "{angle: 60}", "{angle: -30}", 17, "motion[1].angle", "must be > 0"),
+    ("angles-not-360", "{angle: 100}", "{angle: 90}", 15, "motion", "sum to 350"),
+    ("negative-lift", "lift: 40", "lift: -40", 16, "motion[0].lift", "must be > 0"),
+    ("lift-not-a-number", "lift: 40", "lift: forty", 16, "motion[0].lift", "must be a length"),
+    ("wrong-unit-kind", "base_radius: 20", "base_radius: '20 kg'", 7, "cam.base_radius",
+     "must be a length"),
+    ("unknown-unit", "base_radius: 20", "base_radius: '20 furlongz'", 7, "cam.base_radius",
+     "unknown unit"),
+    ("speed-in-mm", "speed_rpm: 1000", "speed_rpm: '1000 mm'", 6, "cam.speed_rpm",
+     "rotational speed"),
+    ("bool-as-number", "base_radius: 20", "base_radius: yes", 7, "cam.base_radius",
+     "must be a length"),
+    ("nan", "base_radius: 20", "base_radius: .nan", 7, "cam.base_radius", "finite"),
+    ("bad-rotation", "rotation: ccw", "rotation: clockwise", 5, "cam.rotation", "allowed: ccw, cw"),
+    ("bad-follower-type", "type: roller", "type: rollr", 11, "follower.type",
+     "did you mean 'roller'"),
+    ("missing-roller-radius", "  roller_radius: 7\n", "", 10, "follower.roller_radius",
+     "required"),
+    ("offset-beyond-prime", "offset: 10", "offset: 30", 13, "follower.offset",
+     "prime circle radius 27"),
+    ("return-below-zero", "law: uniform-acceleration}", "law: uniform-acceleration, lift: 50}",
+     18, "motion[2].lift", "below zero"),
+    ("not-periodic", "law: uniform-acceleration}", "law: uniform-acceleration, lift: 30}", 15,
+     "motion", "periodic"),
+    ("dwell-with-law", "{angle: 60}", "{angle: 60, law: harmonic}", 17, "motion[1].law",
+     "only an angle"),
+    ("param-of-other-law", "law: harmonic}", "law: harmonic, blend: 0.2}", 16, "motion[0].blend",
+     "modified-uniform-velocity"),
+    ("blend-out-of-range", "law: harmonic}", "law: modified-uniform-velocity, blend: 0.7}", 16,
+     "motion[0].blend", "≤ 0.5"),
+    ("rise-without-law", "lift: 40, law: harmonic}", "lift: 40}", 16, "motion[0].law",
+     "required"),
+    ("rise-without-lift", "{angle: 120, lift: 40, law: harmonic}", "{angle: 120, law: harmonic}",
+     16, "motion[0].lift", "required"),
+    ("bad-name", "name: bad-design", "name: Bad Design", 1, "name", "a-z"),
+    ("missing-name", "name: bad-design\n", "", None, "name", "required"),
+    ("yaml-syntax", "  - dwell:  {angle: 60}", "  - dwell:  {angle: 60", 18, "", "invalid YAML"),
+    ("tab-indent", "  bore: 10", "\tbore: 10", 9, "", "invalid YAML"),
+    ("duplicate-key", "  bore: 10", "  bore: 10\n  bore: 12", 10, "cam.bore", "duplicate"),
+    ("bore-too-big", "bore: 10", "bore: 40", 9, "cam.bore", "material"),
+    ("unsupported-cam", "type: disc", "type: groove", 4, "cam.type", "not built"),
+    ("keyway-without-bore", "  bore: 10", "  keyway: {width: 3, depth: 1}", 9, "cam.keyway",
+     "needs a bore"),
+    ("motion-not-list", "  - rise:   {angle: 120, lift: 40, law: harmonic}\n", "", None,
+     "motion", None),
+    ("preload-and-compression", "  - dwell:  {angle: 100}\n",
+     "  - dwell:  {angle: 100}\nspring: {rate: 10, preload: 5, initial_compression: 2}\n", 20,
+     "spring.initial_compression", "not both"),
+    ("oscillating-unreachable", "  motion: translating\n  offset: 10\n",
+     "  motion: oscillating\n  pivot_distance: 200\n  arm_length: 20\n", 14,
+     "follower.arm_length", "cannot reach"),
+    ("pressure-limit-90", "  - dwell:  {angle: 100}\n",
+     "  - dwell:  {angle: 100}\nlimits: {pressure_angle: 95}\n", 20, "limits.pressure_angle",
+     "below 90"),
+    ("table-step", "  - dwell:  {angle: 100}\n", "  - dwell:  {angle: 100}\ntable_step: 7\n", 20,
+     "table_step", "divide 360"),
+]
+
+
+@pytest.mark.parametrize(("case", "old", "new", "line", "field", "words"), CASES,
+                         ids=[c[0] for c in CASES])
+def test_bad_design_gives_one_located_line_and_exit_2(
+    tmp_path: Path, case: str, old: str, new: str, line: int | None, field: str,
+    words: str | None,
+) -> None:
+    assert old in BASE, case
+    text = BASE.replace(old, new, 1)
+    if case == "motion-not-list":
+        text = text.replace("motion:\n", "motion: 12\n").split("  - dwell")[0]
+    design = tmp_path / "design.yaml"
+    design.write_text(text)
+    result = run_cli("build", "design.yaml", cwd=tmp_path)
+    assert result.exit_code == 2, result.output
+    message = result.stderr.strip()
+    assert "\n" not in message and "Traceback" not in message
+    head = f"design.yaml:{line}: " if line is not None else "design.yaml:"
+    assert message.startswith(head), message
+    if field:
+        assert f": {field}: " in message, message
+    if words:
+        assert words in message, message
+    assert not (tmp_path / "exports").exists()  # nothing written
+
+
+def test_missing_file(tmp_path: Path) -> None:
+    result = run_cli("build", "nope.yaml", cwd=tmp_path)
+    assert result.exit_code == 2
+    assert result.stderr.strip() == "nope.yaml: no such design file"
+
+
+def test_binary_garbage_and_empty_file(tmp_path: Path) -> None:
+    (tmp_path / "bin.yaml").write_bytes(bytes(range(256)) * 4)
+    (tmp_path / "empty.yaml").write_text("")
+    for name in ("bin.yaml", "empty.yaml"):
+        result = run_cli("check", name, cwd=tmp_path)
+        assert result.exit_code == 2
+        assert re.match(rf"{name}:\d+: \S", result.stderr), result.stderr
+        assert "Traceback" not in result.stderr
+
+
+def test_failed_build_leaves_earlier_outputs_intact(tmp_path: Path) -> None:
+    good = (DESIGNS / "seed-10-4.yaml").read_text()
+    (tmp_path / "d.yaml").write_text(good)
+    assert run_cli("build", "d.yaml", cwd=tmp_path).exit_code == 0
+    report = tmp_path / "exports" / "seed-10-4" / "seed-10-4-report.json"
+    before = report.read_bytes()
+    (tmp_path / "d.yaml").write_text(good.replace("lift: 40", "lift: -40"))
+    assert run_cli("build", "d.yaml", cwd=tmp_path).exit_code == 2
+    assert report.read_bytes() == before
+    assert sorted(p.name for p in report.parent.iterdir()) == [
+        "seed-10-4-motion.csv", "seed-10-4-report.json"]  # no temporary files left
