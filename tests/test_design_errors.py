@@ -7,6 +7,13 @@ import re
 from pathlib import Path
 
 import pytest
+import yaml
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from camfab.design import design_from_mapping, design_from_text
+from camfab.errors import CamfabError
+from camfab.pipeline import analyse, render
 
 from .conftest import DESIGNS, run_cli
 
@@ -152,3 +159,64 @@ def test_failed_build_leaves_earlier_outputs_intact(tmp_path: Path) -> None:
     assert report.read_bytes() == before
     assert sorted(p.name for p in report.parent.iterdir()) == [
         "seed-10-4-motion.csv", "seed-10-4-report.json"]  # no temporary files left
+
+
+# ---- property-based: mutated designs end in a design or one clean message -------------------
+
+EXAMPLES = [(DESIGNS / f"{n}.yaml").read_text() for n in
+            ("seed-10-4", "demo-table", "seed-poly-345", "demo-inch-flat", "demo-cylindrical")]
+NOISE = [*":{}[],-#'\"\n\t &*!|>%@`0123456789.e+ abcxyz", "\x00", "é", "\ufeff"]
+
+
+@st.composite
+def mutated_texts(draw) -> str:
+    text = list(draw(st.sampled_from(EXAMPLES)))
+    for _ in range(draw(st.integers(1, 4))):
+        i = draw(st.integers(0, len(text) - 1))
+        op = draw(st.sampled_from(["replace", "delete", "insert"]))
+        if op == "replace":
+            text[i] = draw(st.sampled_from(NOISE))
+        elif op == "delete":
+            del text[i]
+        else:
+            text.insert(i, draw(st.sampled_from(NOISE)))
+    return "".join(text)
+
+
+@given(mutated_texts())
+@settings(max_examples=300, deadline=None)
+def test_mutated_text_builds_or_fails_with_one_line(text: str) -> None:
+    try:
+        analysis = analyse(design_from_text(text, "d.yaml"))
+        render(analysis)
+    except CamfabError as exc:
+        assert "\n" not in str(exc) and str(exc).startswith("d.yaml")
+
+
+VALUES = st.one_of(st.none(), st.booleans(), st.integers(-10**6, 10**6),
+                   st.floats(allow_nan=True, allow_infinity=True), st.text(max_size=12),
+                   st.lists(st.integers(), max_size=3),
+                   st.dictionaries(st.text(max_size=5), st.integers(), max_size=2))
+
+
+@given(st.data())
+@settings(max_examples=300, deadline=None)
+def test_mutated_values_build_or_fail_cleanly(data) -> None:
+    design = yaml.safe_load(EXAMPLES[0])
+    for _ in range(data.draw(st.integers(1, 3))):
+        node = design
+        path = data.draw(st.sampled_from([("name",), ("units",), ("cam", "type"),
+                                          ("cam", "base_radius"), ("cam", "speed_rpm"),
+                                          ("follower", "type"), ("follower", "offset"),
+                                          ("follower", "motion"), ("motion", 0), ("motion", 1),
+                                          ("motion",), ("cam",), ("follower",)]))
+        try:
+            for key in path[:-1]:
+                node = node[key]
+            node[path[-1]] = data.draw(VALUES)
+        except (TypeError, KeyError, IndexError):
+            continue  # an earlier draw replaced a parent of this path
+    try:
+        render(analyse(design_from_mapping(design)))
+    except CamfabError as exc:
+        assert "\n" not in str(exc)

@@ -52,14 +52,29 @@ def design_from_text(text: str, file: str = "<design>", folder: Path = Path(".")
 
 def design_from_mapping(data: dict[str, Any], file: str = "<design>") -> Design:
     """A design from already-parsed data (no line numbers in messages)."""
-    return _validate(SourceDocument(file=file, data=data))
+    if not isinstance(data, dict):
+        raise DesignError("a design must be a mapping of keys", location=Location(file, None, ""),
+                          got=data)
+    return _validate(SourceDocument(file=file, data=_text_keys(data)))
+
+
+def _text_keys(value: Any, depth: int = 0) -> Any:
+    """*value* with every mapping key as text, as the YAML loader gives them."""
+    if depth > 50:
+        raise DesignError("nested too deeply (or a structure that contains itself)")
+    if isinstance(value, dict):
+        return {str(k): _text_keys(v, depth + 1) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_text_keys(v, depth + 1) for v in value]
+    return value
 
 
 def _validate(doc: SourceDocument) -> Design:
     shaped = _Shaper(doc)
     data = shaped.run()
-    oscillating = _get(data, "follower", "motion") == "oscillating"
-    units = data.get("units") if data.get("units") in ("mm", "in") else "mm"
+    oscillating = _text(_get(data, "follower", "motion")) == "oscillating"
+    units = _text(data.get("units"))
+    units = units if units in ("mm", "in") else "mm"
     context = {"units": units, "oscillating": oscillating}
     try:
         design = Design.model_validate({**data, "source": doc.file}, context=context)
@@ -85,6 +100,12 @@ def _get(data: Any, *keys: str) -> Any:
             return None
         data = data.get(key)
     return data
+
+
+def _text(value: Any) -> str | None:
+    """*value* when it is text (a type name to look up), else None: other values are reported by
+    the model's own validation."""
+    return value if isinstance(value, str) else None
 
 
 class _Shaper:
@@ -120,7 +141,7 @@ class _Shaper:
     def run(self) -> dict[str, Any]:
         data = dict(self.doc.data)
         self.keys(data, _TOP, (), "the design")
-        cam_type = _get(data, "cam", "type")
+        cam_type = _text(_get(data, "cam", "type"))
         if cam_type in _CAM:
             self.keys(data["cam"], _CAM[cam_type], ("cam",), f"a {cam_type} cam")
             self.keys(_get(data, "cam", "keyway"), _KEYWAY, ("cam", "keyway"), "keyway")
@@ -208,9 +229,9 @@ class _Shaper:
 
 
 def _follower_keys(cam_type: Any, follower: dict[str, Any]) -> tuple[str, ...]:
-    ftype = follower.get("type")
+    ftype = _text(follower.get("type"))
     ftype = "mushroom" if ftype == "spherical" else ftype
-    motion = follower.get("motion", "translating")
+    motion = _text(follower.get("motion", "translating"))
     keys = ["type", "motion", "mass"]
     if motion == "oscillating":
         keys += ["pivot_distance", "arm_length", "pivot_side"]
@@ -231,9 +252,9 @@ def _follower_keys(cam_type: Any, follower: dict[str, Any]) -> tuple[str, ...]:
 
 
 def _follower_label(follower: dict[str, Any]) -> str:
-    motion = str(follower.get("motion", "translating"))
+    motion = _text(follower.get("motion", "translating")) or "translating"
     article = "an" if motion[:1] in "aeiou" else "a"
-    return f"{article} {motion} {follower.get('type', '')} follower"
+    return f"{article} {motion} {_text(follower.get('type')) or ''} follower"
 
 
 def _segment_keys(kind: str, law: Any) -> tuple[str, ...]:

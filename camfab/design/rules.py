@@ -23,6 +23,10 @@ SUPPORTED_CAM_TYPES = ("disc", "cylindrical")
 #: thinner walls do not survive printing or machining.
 MIN_WALL_MM = 1.0
 
+#: Shortest motion segment (degrees of cam angle). Far shorter than any real cam's, it keeps
+#: s‴ = Δ·Cj/β³ finite in floating point.
+MIN_SEGMENT_DEG = 1e-6
+
 #: Follower contact shapes per cam type.
 FOLLOWERS_FOR_CAM = {"disc": ("knife", "roller", "flat", "mushroom"), "cylindrical": ("roller",)}
 
@@ -108,6 +112,8 @@ def _check_motion(design: Design):  # -> MotionProgram
     from camfab.motion.program import ProgramError, build_program
 
     for i, seg in enumerate(design.motion):
+        if math.degrees(seg.angle) < MIN_SEGMENT_DEG:
+            fail(("motion", i, "angle"), f"must be at least {MIN_SEGMENT_DEG:g}°")
         if seg.kind == "dwell":
             continue
         if seg.law is None:

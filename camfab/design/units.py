@@ -29,15 +29,22 @@ class Kind:
     default: str | None  # pint unit of a bare number (None: the design's length unit)
     dimensionality: str | None  # pint dimensionality to check (None: an angle, checked by name)
     examples: str
+    #: Largest magnitude accepted, in the internal unit, and how messages say it. Far beyond any
+    #: real cam, these bounds keep ω³·s‴ and similar products inside floating point.
+    maximum: float | None = None
+    maximum_text: str = ""
 
 
-LENGTH = Kind("a length", "mm", None, "[length]", "mm, in, cm, m")
-ANGLE = Kind("an angle", "radian", "degree", None, "deg, rad, turn")
-SPEED = Kind("a rotational speed", "rpm", "rpm", "1/[time]", "rpm, rev/s, rad/s, deg/s")
-MASS = Kind("a mass", "kg", "kg", "[mass]", "kg, g, lb")
-FORCE = Kind("a force", "N", "N", "[force]", "N, kN, lbf")
-RATE = Kind("a spring rate", "N/mm", "N/mm", "[force]/[length]", "N/mm, N/m, lbf/in")
-DAMPING = Kind("a damping coefficient", "N*s/m", "N*s/m", "[force]*[time]/[length]", "N*s/m")
+LENGTH = Kind("a length", "mm", None, "[length]", "mm, in, cm, m", 1e6, "1 km")
+ANGLE = Kind("an angle", "radian", "degree", None, "deg, rad, turn", 1e4, "10,000 rad")
+SPEED = Kind("a rotational speed", "rpm", "rpm", "1/[time]", "rpm, rev/s, rad/s, deg/s", 1e6,
+             "1,000,000 rpm")
+MASS = Kind("a mass", "kg", "kg", "[mass]", "kg, g, lb", 1e6, "1,000 t")
+FORCE = Kind("a force", "N", "N", "[force]", "N, kN, lbf", 1e9, "1 GN")
+RATE = Kind("a spring rate", "N/mm", "N/mm", "[force]/[length]", "N/mm, N/m, lbf/in", 1e9,
+            "1e9 N/mm")
+DAMPING = Kind("a damping coefficient", "N*s/m", "N*s/m", "[force]*[time]/[length]", "N*s/m",
+               1e9, "1e9 N·s/m")
 
 _ANGLE_UNITS = ("degree", "radian", "revolution", "turn", "arcminute", "arcsecond", "gradian")
 
@@ -88,11 +95,20 @@ def convert(raw: object, kind: Kind, design_units: str = "mm") -> float:
         try:
             number = float(text)
         except ValueError:
-            return _convert_text(text, raw, kind, design_units)
+            return _in_range(_convert_text(text, raw, kind, design_units), raw, kind)
     else:
-        number = float(raw)
+        try:
+            number = float(raw)
+        except OverflowError:  # an integer too large for a float
+            number = math.inf
     _check_finite(number, raw, kind)
-    return number * _default_factor(kind, design_units)
+    return _in_range(number * _default_factor(kind, design_units), raw, kind)
+
+
+def _in_range(value: float, raw: object, kind: Kind) -> float:
+    if kind.maximum is not None and abs(value) > kind.maximum:
+        raise DesignError(f"is out of range for {kind.name} (at most {kind.maximum_text})", got=raw)
+    return value
 
 
 def _convert_text(text: str, raw: str, kind: Kind, design_units: str) -> float:
