@@ -71,16 +71,17 @@ def laws() -> None:
 @click.argument("kind", required=False)
 def new(kind: str | None) -> None:
     """Print a commented starter design of KIND (disc-roller, disc-flat, oscillating, ...)."""
-    import difflib
     from importlib import resources
+
+    from camfab.errors import did_you_mean
 
     if kind is None:
         click.echo("starter designs: " + ", ".join(STARTER_KINDS))
         click.echo("usage: camfab new KIND > design.yaml")
         return
     if kind not in STARTER_KINDS:
-        match = difflib.get_close_matches(kind, STARTER_KINDS, n=1, cutoff=0.5)
-        hint = f"did you mean '{match[0]}'?; " if match else ""
+        suggestion = did_you_mean(kind, STARTER_KINDS, cutoff=0.5)
+        hint = f"{suggestion}; " if suggestion else ""
         click.echo(f"camfab new: unknown kind '{kind}' ({hint}allowed: "
                    f"{', '.join(STARTER_KINDS)})", err=True)
         sys.exit(2)

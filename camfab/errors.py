@@ -107,6 +107,16 @@ class OutputError(CamfabError, OSError):
     """Outputs that cannot be written (no permission, disk full, a file in the way)."""
 
 
+def did_you_mean(word: object, choices: Sequence[str], cutoff: float = 0.6) -> str | None:
+    """``"did you mean 'x'?"`` for the choice closest to *word*, or None when none is close."""
+    import difflib
+
+    if not isinstance(word, str):
+        return None
+    match = difflib.get_close_matches(word.lower(), list(choices), n=1, cutoff=cutoff)
+    return f"did you mean '{match[0]}'?" if match else None
+
+
 def _show(value: object) -> str:
     """A short, one-line rendering of a user value for messages."""
     if isinstance(value, str):

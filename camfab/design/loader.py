@@ -6,7 +6,6 @@ and what is wrong. When a file has several problems, the one nearest the top is 
 
 from __future__ import annotations
 
-import difflib
 from pathlib import Path
 from typing import Any
 
@@ -15,7 +14,7 @@ from pydantic import ValidationError
 from camfab.design.model import Design
 from camfab.design.rules import RuleViolation
 from camfab.design.source import Path_, SourceDocument, dotted, parse_yaml, read_design_file
-from camfab.errors import DesignError, Location
+from camfab.errors import DesignError, Location, did_you_mean
 
 SEGMENT_KINDS = {"rise": "rise", "return": "return", "fall": "return", "dwell": "dwell"}
 
@@ -133,10 +132,8 @@ class _Shaper:
             return
         for key in mapping:
             if key not in allowed:
-                match = difflib.get_close_matches(key, allowed, n=1, cutoff=0.6)
                 self.fail((*path, key), f"unknown key in {what}",
-                          hint=f"did you mean '{match[0]}'?" if match else None,
-                          allowed=", ".join(allowed))
+                          hint=did_you_mean(key, allowed), allowed=", ".join(allowed))
 
     def run(self) -> dict[str, Any]:
         data = dict(self.doc.data)
@@ -167,9 +164,8 @@ class _Shaper:
             (key, body), = item.items()
             kind = SEGMENT_KINDS.get(key)
             if kind is None:
-                match = difflib.get_close_matches(key, list(SEGMENT_KINDS), n=1, cutoff=0.5)
                 self.fail(("motion", i), f"unknown segment kind '{key}'",
-                          hint=f"did you mean '{match[0]}'?" if match else None,
+                          hint=did_you_mean(key, list(SEGMENT_KINDS), cutoff=0.5),
                           allowed="rise, return (fall), dwell")
             self.segment_keys[i] = key
             if not isinstance(body, dict):
@@ -321,10 +317,8 @@ def _describe(err: Any) -> tuple[str, Any, str | None]:
     if kind == "literal_error":
         expected = str(ctx.get("expected", ""))
         choices = [c.strip(" '\"") for c in expected.replace(" or ", ", ").split(",") if c.strip()]
-        value = str(err.get("input"))
-        match = difflib.get_close_matches(value, choices, n=1, cutoff=0.5)
         return ("unknown value", ", ".join(choices),
-                f"did you mean '{match[0]}'?" if match else None)
+                did_you_mean(str(err.get("input")), choices, cutoff=0.5))
     if kind == "greater_than":
         return f"must be > {ctx.get('gt')}", None, None
     if kind == "greater_than_equal":

@@ -27,7 +27,7 @@ from pydantic import (
 from pydantic_core import PydanticCustomError
 
 from camfab.design import units as U
-from camfab.errors import DesignError
+from camfab.errors import DesignError, did_you_mean
 
 CamType = Literal["disc", "cylindrical", "circular-arc", "tangent", "groove", "conjugate", "linear"]
 FollowerType = Literal["knife", "roller", "flat", "mushroom"]
@@ -63,13 +63,15 @@ def _lift(value: Any, info: ValidationInfo) -> Any:
         raise _custom(exc) from None
 
 
-def _custom(exc: DesignError) -> PydanticCustomError:
+def _problem(problem: str, allowed: Any = None, hint: str | None = None) -> PydanticCustomError:
     """Carry a camfab message through pydantic so the loader can rebuild it with a location."""
     return PydanticCustomError(
-        "camfab",
-        "{problem}",
-        {"problem": exc.problem, "allowed": exc.allowed, "hint": exc.hint},
+        "camfab", "{problem}", {"problem": problem, "allowed": allowed, "hint": hint}
     )
+
+
+def _custom(exc: DesignError) -> PydanticCustomError:
+    return _problem(exc.problem, exc.allowed, exc.hint)
 
 
 Length = Annotated[float, _as(U.LENGTH)]
@@ -186,10 +188,7 @@ class Conditions(Frozen):
 def _point(value: Any, info: ValidationInfo) -> Any:
     """A table/polynomial point ``[angle, displacement]`` -> (radians, mm or radians)."""
     if not isinstance(value, (list, tuple)) or len(value) != 2:
-        raise PydanticCustomError(
-            "camfab", "{problem}",
-            {"problem": "must be a pair [angle, displacement]", "allowed": None, "hint": None},
-        )
+        raise _problem("must be a pair [angle, displacement]")
     ctx = _ctx(info)
     lift_kind = U.ANGLE if ctx.get("oscillating") else U.LENGTH
     try:
@@ -220,34 +219,15 @@ class Segment(Frozen):
     @field_validator("law", mode="before")
     @classmethod
     def _canonical_law(cls, value: Any) -> Any:
-        from camfab.motion.laws import LAW_NAMES, canonical_law_name
+        from camfab.motion.laws import ALIASES, LAW_NAMES, canonical_law_name
 
         if not isinstance(value, str):
-            raise PydanticCustomError(
-                "camfab", "{problem}",
-                {"problem": "must be a law name", "allowed": LAW_NAMES, "hint": None},
-            )
+            raise _problem("must be a law name", LAW_NAMES)
         name = canonical_law_name(value)
         if name is None:
-            raise PydanticCustomError(
-                "camfab", "{problem}",
-                {"problem": "unknown motion law", "allowed": LAW_NAMES,
-                 "hint": _did_you_mean(value, [*LAW_NAMES, *_law_aliases()])},
-            )
+            raise _problem("unknown motion law", LAW_NAMES,
+                           did_you_mean(value, [*LAW_NAMES, *ALIASES]))
         return name
-
-
-def _law_aliases() -> list[str]:
-    from camfab.motion.laws import ALIASES
-
-    return list(ALIASES)
-
-
-def _did_you_mean(word: str, choices: list[str]) -> str | None:
-    import difflib
-
-    match = difflib.get_close_matches(word.lower(), choices, n=1, cutoff=0.6)
-    return f"did you mean '{match[0]}'?" if match else None
 
 
 class Spring(Frozen):
@@ -265,10 +245,7 @@ class Spring(Frozen):
     @classmethod
     def _boolean(cls, value: Any) -> Any:
         if not isinstance(value, bool):
-            raise PydanticCustomError(
-                "camfab", "{problem}",
-                {"problem": "must be true or false", "allowed": None, "hint": None},
-            )
+            raise _problem("must be true or false")
         return value
 
 
