@@ -16,7 +16,7 @@ from camfab.analysis.findings import Finding, exit_status
 from camfab.analysis.kinematics import MotionUnits, SegmentStats, continuity_findings, segment_stats
 from camfab.design import Design, load_design
 from camfab.errors import OutputError
-from camfab.motion.program import MotionProgram, build_program
+from camfab.motion.program import MotionProgram
 
 #: Every output a design may ask for, in the order files are listed.
 ALL_OUTPUTS = ("dxf", "svg", "stl", "report", "csv")
@@ -40,7 +40,7 @@ class Analysis:
 
 def analyse(design: Design) -> Analysis:
     """Compute the motion, its kinematics and the checks of *design*."""
-    program = build_program(design.motion)
+    program = design.program
     units = MotionUnits(design.follower.oscillating)
     omega = design.cam.omega
     findings, steps = continuity_findings(program, units, omega)

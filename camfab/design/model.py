@@ -13,7 +13,8 @@ field validation here and the design rules of :mod:`camfab.design.rules`.
 from __future__ import annotations
 
 import math
-from typing import Annotated, Any, Literal
+from functools import cached_property
+from typing import TYPE_CHECKING, Annotated, Any, Literal
 
 from pydantic import (
     BaseModel,
@@ -28,6 +29,9 @@ from pydantic_core import PydanticCustomError
 
 from camfab.design import units as U
 from camfab.errors import DesignError, did_you_mean
+
+if TYPE_CHECKING:
+    from camfab.motion.program import MotionProgram
 
 CamType = Literal["disc", "cylindrical", "circular-arc", "tangent", "groove", "conjugate", "linear"]
 FollowerType = Literal["knife", "roller", "flat", "mushroom"]
@@ -292,6 +296,13 @@ class Design(Frozen):
 
         check_rules(self)
         return self
+
+    @cached_property
+    def program(self) -> MotionProgram:
+        """The motion program s(θ) of ``motion`` (built once; the rules build it to check it)."""
+        from camfab.motion.program import build_program
+
+        return build_program(self.motion)
 
     @property
     def pressure_angle_limit(self) -> float:

@@ -109,7 +109,7 @@ def _check_follower(design: Design) -> None:
 
 
 def _check_motion(design: Design):  # -> MotionProgram
-    from camfab.motion.program import ProgramError, build_program
+    from camfab.motion.program import ProgramError
 
     for i, seg in enumerate(design.motion):
         if math.degrees(seg.angle) < MIN_SEGMENT_DEG:
@@ -132,7 +132,7 @@ def _check_motion(design: Design):  # -> MotionProgram
         if seg.lift is None and seg.kind == "rise" and seg.law != "table":
             fail(("motion", i, "lift"), "required for a rise", show_got=False)
     try:
-        return build_program(design.motion)
+        return design.program
     except ProgramError as exc:
         path: tuple[str | int, ...] = ("motion",) if exc.index is None else ("motion", exc.index)
         if exc.field:

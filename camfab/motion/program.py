@@ -162,15 +162,9 @@ def build_program(specs: Sequence[SegmentSpec]) -> MotionProgram:
         raise ProgramError(
             None, "", f"the segment angles sum to {math.degrees(total):.6g}°; they must sum to 360°"
         )
-    placed = _place(specs)
-    builder = _LawBuilder(specs, placed)
-    laws = builder.build_all()
-    rows = zip(specs, placed, laws, strict=True)
-    segments = [
-        ProgramSegment(i, spec.kind, name, law, start, spec.angle, s0, delta)
-        for i, (spec, (start, s0, delta), (name, law)) in enumerate(rows)
-    ]
-    return MotionProgram(segments)
+    builder = _LawBuilder(specs, _place(specs))
+    builder.build_all()
+    return MotionProgram([builder.segment(i) for i in range(len(specs))])
 
 
 def _place(specs: Sequence[SegmentSpec]) -> list[tuple[float, float, float]]:
@@ -232,7 +226,7 @@ class _LawBuilder:
         self.placed = placed
         self.laws: list[tuple[str, Law] | None] = [None] * len(specs)
 
-    def build_all(self) -> list[tuple[str, Law]]:
+    def build_all(self) -> None:
         pending = list(range(len(self.specs)))
         while pending:
             still = [i for i in pending if not self._try(i)]
@@ -242,7 +236,6 @@ class _LawBuilder:
                     "'match' cannot be resolved: the neighbouring segment matches this one back",
                 )
             pending = still
-        return [law for law in self.laws if law is not None]
 
     def _try(self, i: int) -> bool:
         spec = self.specs[i]
@@ -278,12 +271,13 @@ class _LawBuilder:
                                        "'match' needs a neighbouring segment")
                 if self.laws[j] is None:
                     return None
-                neighbour = self._segment(j)
+                neighbour = self.segment(j)
                 value = neighbour.end_values()[0 if at_end else 1][order]
             out.append((order, float(value)))
         return out
 
-    def _segment(self, j: int) -> ProgramSegment:
+    def segment(self, j: int) -> ProgramSegment:
+        """Segment *j* placed in the cycle (its law must be built)."""
         start, s0, delta = self.placed[j]
         name, law = self.laws[j]  # type: ignore[misc]
         return ProgramSegment(j, self.specs[j].kind, name, law, start, self.specs[j].angle, s0,
@@ -340,16 +334,13 @@ class _LawBuilder:
         if abs(u1 - 1.0) * span > POINT_SLACK or abs((f1 - 1.0) * delta) > POINT_SLACK:
             raise ProgramError(i, f"points[{len(points) - 1}]",
                                "the last point must be at the segment's angle and its end lift")
-        for order, _ in start + end:
-            if order > 2:
-                raise ProgramError(i, "end" if (order, _) in end else "start",
+        ends = {"start": dict(start), "end": dict(end)}
+        for key, given in ends.items():
+            if 3 in given:
+                raise ProgramError(i, key,
                                    "a table takes velocity and acceleration conditions, not jerk")
-        values = {"start": dict(start), "end": dict(end)}
-        bc = {
-            key: (self._normalised(i, 1, values[key].get(1, 0.0)),
-                  self._normalised(i, 2, values[key].get(2, 0.0)))
-            for key in values
-        }
+        bc = {key: (self._normalised(i, 1, given.get(1, 0.0)),
+                    self._normalised(i, 2, given.get(2, 0.0))) for key, given in ends.items()}
         u = [p[0] for p in points]
         f = [p[1] for p in points]
         u[0], f[0], u[-1], f[-1] = 0.0, 0.0, 1.0, 1.0
