@@ -7,12 +7,12 @@ and what is wrong. When a file has several problems, the one nearest the top is 
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any
+from typing import Any, get_args
 
 from pydantic import ValidationError
 
-from camfab.design.model import Design
-from camfab.design.rules import RuleViolation
+from camfab.design.model import CamType, Design
+from camfab.design.rules import RuleViolation, check_cam_type
 from camfab.design.source import Path_, SourceDocument, dotted, parse_yaml, read_design_file
 from camfab.errors import DesignError, Location, did_you_mean
 
@@ -139,6 +139,11 @@ class _Shaper:
         data = dict(self.doc.data)
         self.keys(data, _TOP, (), "the design")
         cam_type = _text(_get(data, "cam", "type"))
+        if cam_type in get_args(CamType):  # a type of the format: is it built yet?
+            try:
+                check_cam_type(cam_type)
+            except RuleViolation as exc:
+                self.fail(exc.path, exc.error.problem, allowed=exc.error.allowed)
         if cam_type in _CAM:
             self.keys(data["cam"], _CAM[cam_type], ("cam",), f"a {cam_type} cam")
             self.keys(_get(data, "cam", "keyway"), _KEYWAY, ("cam", "keyway"), "keyway")

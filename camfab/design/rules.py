@@ -57,11 +57,16 @@ def check_rules(design: Design) -> None:
     _check_other(design)
 
 
+def check_cam_type(cam_type: str) -> None:
+    """Fail for a cam type of the design format that this version does not build."""
+    if cam_type not in SUPPORTED_CAM_TYPES:
+        fail(("cam", "type"), f"'{cam_type}' cams are not built by this version of camfab",
+             show_got=False, allowed=", ".join(SUPPORTED_CAM_TYPES))
+
+
 def _check_cam(design: Design) -> None:
     cam = design.cam
-    if cam.type not in SUPPORTED_CAM_TYPES:
-        fail(("cam", "type"), f"'{cam.type}' cams are not built by this version of camfab",
-             show_got=False, allowed=", ".join(SUPPORTED_CAM_TYPES))
+    check_cam_type(cam.type)
     required = {"disc": ("base_radius",), "cylindrical": ("radius", "length", "groove_depth")}
     for key in required[cam.type]:
         if getattr(cam, key) is None:
