@@ -106,8 +106,8 @@ def write_files(folder: Path, files: Mapping[str, bytes]) -> list[Path]:
     temps: list[tuple[Path, Path]] = []
     try:
         for name, data in files.items():
-            handle, temp = tempfile.mkstemp(prefix=f".{name}.", suffix=".tmp", dir=folder)
-            temps.append((Path(temp), folder / name))
+            handle, temp_name = tempfile.mkstemp(prefix=f".{name}.", suffix=".tmp", dir=folder)
+            temps.append((Path(temp_name), folder / name))
             with os.fdopen(handle, "wb") as stream:
                 stream.write(data)
         for temp, final in temps:

@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from camfab.analysis.findings import Finding
+from camfab.analysis.findings import Finding, Severity
 from camfab.motion.continuity import ORDER_NAMES, Step, joint_steps, unbounded_orders
 from camfab.motion.program import MotionProgram
 
@@ -106,7 +106,7 @@ _CONSEQUENCE = {
     2: "infinite jerk: vibration and noise at speed",
     3: "the jerk is discontinuous: acceptable except at high speed",
 }
-_SEVERITY = {1: "error", 2: "warning", 3: "warning"}
+_SEVERITY: dict[int, Severity] = {1: "error", 2: "warning", 3: "warning"}
 
 
 def continuity_findings(program: MotionProgram, units: MotionUnits,
@@ -123,8 +123,8 @@ def continuity_findings(program: MotionProgram, units: MotionUnits,
             message = (f"{name} is continuous at every joint" if not lower else
                        f"{name} has no steps besides the joints where "
                        f"{ORDER_NAMES[min(s.order for s in lower)]} steps")
-            findings.append(Finding("continuity", True, _SEVERITY[order],  # type: ignore[arg-type]
-                                    message, 0.0, 0.0, unit, quantity=name))
+            findings.append(Finding("continuity", True, _SEVERITY[order], message, 0.0, 0.0,
+                                    unit, quantity=name))
             continue
 
         def scaled(value: float, order: int = order) -> float:
@@ -135,7 +135,7 @@ def continuity_findings(program: MotionProgram, units: MotionUnits,
         message = (f"{name} steps at {angles} (largest {scaled(worst.size):.4g} {unit} at "
                    f"{degrees(worst.angle):.6g}°): {_CONSEQUENCE[order]}")
         findings.append(Finding(
-            "continuity", False, _SEVERITY[order], message,  # type: ignore[arg-type]
+            "continuity", False, _SEVERITY[order], message,
             value=scaled(worst.size), limit=0.0, unit=unit,
             ranges_deg=tuple((degrees(s.angle), degrees(s.angle)) for s in mine),
             quantity=name,

@@ -7,7 +7,7 @@ and what is wrong. When a file has several problems, the one nearest the top is 
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any, get_args
+from typing import Any, NoReturn, get_args
 
 from pydantic import ValidationError
 
@@ -123,7 +123,7 @@ class _Shaper:
                 return (path[0], path[1], key, *path[2:])
         return path
 
-    def fail(self, path: Path_, problem: str, **kwargs: Any) -> None:
+    def fail(self, path: Path_, problem: str, **kwargs: Any) -> NoReturn:
         yaml_path = self.yaml_path(path)
         raise DesignError(problem, location=self.doc.locate(yaml_path, dotted(path)), **kwargs)
 
@@ -139,7 +139,7 @@ class _Shaper:
         data = dict(self.doc.data)
         self.keys(data, _TOP, (), "the design")
         cam_type = _text(_get(data, "cam", "type"))
-        if cam_type in get_args(CamType):  # a type of the format: is it built yet?
+        if cam_type is not None and cam_type in get_args(CamType):  # built yet?
             try:
                 check_cam_type(cam_type)
             except RuleViolation as exc:
@@ -167,11 +167,11 @@ class _Shaper:
                 self.fail(("motion", i), "each segment is a one-key map such as "
                           "'- rise: {angle: 120, lift: 40, law: harmonic}'", got=item)
             (key, body), = item.items()
-            kind = SEGMENT_KINDS.get(key)
-            if kind is None:
+            if key not in SEGMENT_KINDS:
                 self.fail(("motion", i), f"unknown segment kind '{key}'",
                           hint=did_you_mean(key, list(SEGMENT_KINDS), cutoff=0.5),
                           allowed="rise, return (fall), dwell")
+            kind = SEGMENT_KINDS[key]
             self.segment_keys[i] = key
             if not isinstance(body, dict):
                 self.fail(("motion", i), f"a {key} needs its data as a mapping "
@@ -212,7 +212,7 @@ class _Shaper:
         except (OSError, UnicodeDecodeError) as exc:
             reason = getattr(exc, "strerror", None) or "not a UTF-8 text file"
             self.fail(path, f"cannot read the table ({reason})", got=name)
-        rows = []
+        rows: list[list[str]] = []
         for number, line in enumerate(text.splitlines(), start=1):
             cells = [c.strip() for c in line.replace(";", ",").split(",")]
             if not line.strip() or line.lstrip().startswith("#"):
@@ -241,7 +241,7 @@ def _follower_keys(cam_type: Any, follower: dict[str, Any]) -> tuple[str, ...]:
     else:
         keys.append("offset")
     keys += {"roller": ["roller_radius"], "mushroom": ["face_radius"],
-             "flat": ["face_width"]}.get(ftype, [])
+             "flat": ["face_width"]}.get(ftype or "", [])
     if cam_type == "cylindrical":
         keys.append("groove_clearance")
     if ftype not in ("knife", "roller", "flat", "mushroom") or motion not in (

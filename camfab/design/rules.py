@@ -9,12 +9,13 @@ loader can name the line.
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, NoReturn
 
 from camfab.errors import CamfabError, DesignError
 
 if TYPE_CHECKING:
     from camfab.design.model import Design
+    from camfab.motion.program import MotionProgram
 
 #: Cam types this version builds; the others are part of the design format but not built yet.
 SUPPORTED_CAM_TYPES = ("disc", "cylindrical")
@@ -43,7 +44,7 @@ class RuleViolation(CamfabError):
 
 
 def fail(path: tuple[str | int, ...], problem: str, *, show_got: bool = True,
-         allowed: str | None = None, hint: str | None = None) -> None:
+         allowed: str | None = None, hint: str | None = None) -> NoReturn:
     raise RuleViolation(path, DesignError(problem, allowed=allowed, hint=hint), show_got)
 
 
@@ -113,7 +114,7 @@ def _check_follower(design: Design) -> None:
                  f"|offset| must be smaller than the prime circle radius {_mm(rp)}")
 
 
-def _check_motion(design: Design):  # -> MotionProgram
+def _check_motion(design: Design) -> MotionProgram:
     from camfab.motion.program import ProgramError
 
     for i, seg in enumerate(design.motion):
@@ -143,7 +144,6 @@ def _check_motion(design: Design):  # -> MotionProgram
         if exc.field:
             path = (*path, *_split(exc.field))
         fail(path, exc.problem, show_got=False)
-        raise  # unreachable: fail() raises
 
 
 def _check_cam_fit(design: Design, max_lift: float) -> None:

@@ -112,9 +112,7 @@ def _in_range(value: float, raw: object, kind: Kind) -> float:
 
 
 def _convert_text(text: str, raw: str, kind: Kind, design_units: str) -> float:
-    if not text:
-        raise DesignError(f"must be {kind.name}", got=raw, allowed=_allowed(kind))
-    if not any(ch.isdigit() for ch in text):
+    if not any(ch.isdigit() for ch in text):  # empty, or words: not a quantity
         raise DesignError(f"must be {kind.name}", got=raw, allowed=_allowed(kind))
     ureg = registry()
     try:

@@ -23,7 +23,7 @@ class PolynomialLaw(Law):
 
     def __init__(
         self,
-        coefficients: Sequence[float],
+        coefficients: ArrayLike,
         name: str = "polynomial",
         peaks: tuple[float, float, float] | None = None,
     ) -> None:

@@ -42,14 +42,22 @@ class ProgramError(ValueError):
 class SegmentSpec(Protocol):
     """What the program needs of a design segment (see :class:`camfab.design.model.Segment`)."""
 
-    kind: str
-    angle: float
-    lift: float | None
-    law: str | None
-    blend: float | None
-    start: Any
-    end: Any
-    points: Sequence[tuple[float, float]] | None
+    @property
+    def kind(self) -> str: ...
+    @property
+    def angle(self) -> float: ...
+    @property
+    def lift(self) -> float | None: ...
+    @property
+    def law(self) -> str | None: ...
+    @property
+    def blend(self) -> float | None: ...
+    @property
+    def start(self) -> Any: ...
+    @property
+    def end(self) -> Any: ...
+    @property
+    def points(self) -> Sequence[tuple[float, float]] | None: ...
 
 
 @dataclass(frozen=True)
