@@ -65,17 +65,6 @@ class DesignError(CamfabError, ValueError):
         self.show_got = show_got and got is not None
         super().__init__(self._message())
 
-    def located(self, location: Location) -> DesignError:
-        """The same error placed at *location*."""
-        return DesignError(
-            self.problem,
-            location=location,
-            got=self.got,
-            allowed=self.allowed,
-            hint=self.hint,
-            show_got=self.show_got,
-        )
-
     def _message(self) -> str:
         parts = []
         if self.show_got:
