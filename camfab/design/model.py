@@ -42,29 +42,31 @@ def _ctx(info: ValidationInfo) -> dict[str, Any]:
     return info.context or {}
 
 
+def _convert(value: Any, kind: U.Kind, info: ValidationInfo) -> float:
+    """*value* in *kind*'s internal unit in this design's units; errors carried through pydantic."""
+    try:
+        return U.convert(value, kind, _ctx(info).get("units", "mm"))
+    except DesignError as exc:
+        raise _custom(exc) from None
+
+
+def _lift_kind(info: ValidationInfo) -> U.Kind:
+    """A lift is a length for translating followers and an angle of swing for oscillating ones."""
+    return U.ANGLE if _ctx(info).get("oscillating") else U.LENGTH
+
+
 def _as(kind: U.Kind) -> Any:
     """A before-validator converting a design value of *kind* to internal units."""
 
     def convert(value: Any, info: ValidationInfo) -> Any:
-        if value is None:
-            return None
-        try:
-            return U.convert(value, kind, _ctx(info).get("units", "mm"))
-        except DesignError as exc:
-            raise _custom(exc) from None
+        return None if value is None else _convert(value, kind, info)
 
     return BeforeValidator(convert)
 
 
 def _lift(value: Any, info: ValidationInfo) -> Any:
-    """A lift: a length for translating followers, an angle of swing for oscillating ones."""
-    if value is None:
-        return None
-    kind = U.ANGLE if _ctx(info).get("oscillating") else U.LENGTH
-    try:
-        return U.convert(value, kind, _ctx(info).get("units", "mm"))
-    except DesignError as exc:
-        raise _custom(exc) from None
+    """A lift, converted as its follower needs (see :func:`_lift_kind`)."""
+    return None if value is None else _convert(value, _lift_kind(info), info)
 
 
 def _problem(problem: str, allowed: Any = None, hint: str | None = None) -> PydanticCustomError:
@@ -177,9 +179,9 @@ class Conditions(Frozen):
         if value is None or (isinstance(value, str) and value.strip().lower() == "match"):
             return None if value is None else "match"
         order = {"velocity": 1, "acceleration": 2, "jerk": 3}[info.field_name or "velocity"]
-        lift_kind = U.ANGLE if _ctx(info).get("oscillating") else U.LENGTH
         try:
-            return U.convert(value, U.angle_rate(order, lift_kind), _ctx(info).get("units", "mm"))
+            return U.convert(value, U.angle_rate(order, _lift_kind(info)),
+                             _ctx(info).get("units", "mm"))
         except DesignError as exc:
             raise _custom(DesignError(exc.problem + " or 'match'", allowed=exc.allowed)) from None
 
@@ -193,15 +195,7 @@ def _point(value: Any, info: ValidationInfo) -> Any:
     """A table/polynomial point ``[angle, displacement]`` -> (radians, mm or radians)."""
     if not isinstance(value, (list, tuple)) or len(value) != 2:
         raise _problem("must be a pair [angle, displacement]")
-    ctx = _ctx(info)
-    lift_kind = U.ANGLE if ctx.get("oscillating") else U.LENGTH
-    try:
-        return (
-            U.convert(value[0], U.ANGLE, ctx.get("units", "mm")),
-            U.convert(value[1], lift_kind, ctx.get("units", "mm")),
-        )
-    except DesignError as exc:
-        raise _custom(exc) from None
+    return (_convert(value[0], U.ANGLE, info), _convert(value[1], _lift_kind(info), info))
 
 
 Point = Annotated[tuple[float, float], BeforeValidator(_point)]
