@@ -1,0 +1,172 @@
+"""Disc cams: exact pitch and working curves, pressure angle and face contact at any θ.
+
+Every evaluator takes the cam angles θ (N,) and the motion at them, ``m = (s, s′, s″, s‴)`` as a
+(4, N) array (mm or rad of swing, per radian of cam angle), and returns exact values: closed forms
+of THEORY §B in the conventions of SPEC §2, no finite differences. The pitch curve is the path of
+the trace point in the cam frame; the working curve (the cam profile) is the envelope of the
+follower's contact shape: the pitch curve offset along its normal for knife, roller and mushroom
+followers, the envelope of the face lines for flat faces.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from camfab.geometry.curves import (
+    CurvePoints,
+    curve_from_frame,
+    dot,
+    offset_inward,
+    perp,
+    rotate,
+    signed_angle,
+    unit,
+)
+from camfab.geometry.follower import FollowerGeometry
+from camfab.motion.law import Array
+
+
+@dataclass(frozen=True)
+class FaceLines:
+    """The face line of a flat follower in the cam frame, as an envelope family.
+
+    ``h`` is the line's distance from the cam centre along its outward normal at angle ``beta``;
+    ``h_beta`` and ``h_beta2`` are dh/dβ and d²h/dβ², ``dbeta`` is dβ/dθ. The contact point is
+    ``h·n + h_β·t`` and the radius of curvature ``h + h_ββ`` (positive: convex).
+    """
+
+    h: Array
+    beta: Array
+    h_beta: Array
+    h_beta2: Array
+    dbeta: Array
+
+    def contact(self) -> Array:
+        n = np.stack((np.cos(self.beta), np.sin(self.beta)), axis=-1)
+        return self.h[:, None] * n + self.h_beta[:, None] * perp(n)
+
+    def curve(self) -> CurvePoints:
+        n = np.stack((np.cos(self.beta), np.sin(self.beta)), axis=-1)
+        radius = self.h + self.h_beta2
+        rate = radius * self.dbeta
+        tangent = perp(n) * np.sign(rate)[:, None]
+        return CurvePoints(self.contact(), tangent, np.abs(rate), radius)
+
+
+class DiscCam:
+    """A disc cam of *base_radius* (mm) turning in sense *sigma* with *follower*."""
+
+    def __init__(self, follower: FollowerGeometry, base_radius: float, sigma: int) -> None:
+        self.follower = follower
+        self.base_radius = base_radius
+        self.sigma = sigma
+        self.rest = follower.rest_position(base_radius)
+
+    @property
+    def prime_radius(self) -> float:
+        """Rp: base radius plus the roller or mushroom radius (mm)."""
+        return self.base_radius + self.follower.radius
+
+    @property
+    def pivot(self) -> Array:
+        fol = self.follower
+        return np.array([fol.pivot_sign * fol.pivot_distance, 0.0])
+
+    # -- the trace point in the frame ---------------------------------------------------------
+
+    def trace(self, m: Array) -> tuple[Array, Array, Array, Array]:
+        """The trace point in the frame: F, F′, F″ and the unit direction it moves in on a rise."""
+        fol = self.follower
+        s, v, a = m[0], m[1], m[2]
+        if not fol.oscillating:
+            zero = np.zeros_like(s)
+            f = np.stack((np.full_like(s, fol.offset), self.rest + s), axis=-1)
+            df = np.stack((zero, v), axis=-1)
+            ddf = np.stack((zero, a), axis=-1)
+            return f, df, ddf, np.stack((zero, zero + 1.0), axis=-1)
+        p, arm = fol.pivot_sign, fol.arm_length
+        psi = self.rest + s
+        c, sn = np.cos(psi), np.sin(psi)
+        f = np.stack((p * (fol.pivot_distance - arm * c), arm * sn), axis=-1)
+        direction = np.stack((p * sn, c), axis=-1)
+        turn = np.stack((p * c, -sn), axis=-1)
+        df = arm * v[:, None] * direction
+        ddf = arm * (a[:, None] * direction + (v * v)[:, None] * turn)
+        return f, df, ddf, direction
+
+    def face_lines(self, theta: Array, m: Array) -> FaceLines:
+        """The flat face's line family in the cam frame (THEORY §B, flat faces)."""
+        fol, sigma = self.follower, self.sigma
+        s, v, a = m[0], m[1], m[2]
+        if not fol.oscillating:
+            h, h1, h2 = self.base_radius + s, v, a
+            beta_f, b1, b2 = np.full_like(s, math.pi / 2), np.zeros_like(s), np.zeros_like(s)
+        else:
+            p, dist = fol.pivot_sign, fol.pivot_distance
+            psi = self.rest + s
+            c, sn = np.cos(psi), np.sin(psi)
+            h = dist * sn - fol.face_offset
+            h1 = dist * c * v
+            h2 = dist * (c * a - sn * v * v)
+            beta_f, b1, b2 = math.pi / 2 - p * psi, -p * v, -p * a
+        dbeta = b1 - sigma
+        with np.errstate(divide="ignore", invalid="ignore"):
+            h_beta = h1 / dbeta
+            h_beta2 = (h2 * dbeta - h1 * b2) / dbeta**3
+        return FaceLines(h, beta_f - sigma * theta, h_beta, h_beta2, dbeta)
+
+    # -- curves ---------------------------------------------------------------------------------
+
+    def pitch(self, theta: Array, m: Array) -> CurvePoints:
+        """The pitch curve: the trace point's path in the cam frame.
+
+        For a flat face the trace point is where the face meets the stem axis (translating) or
+        the arm's trace point (oscillating).
+        """
+        f, df, ddf, _ = self.trace(m)
+        return curve_from_frame(theta, self.sigma, f, df, ddf)
+
+    def working(self, theta: Array, m: Array) -> CurvePoints:
+        """The working curve (cam profile): the envelope of the follower's contact shape."""
+        if self.follower.flat:
+            return self.face_lines(theta, m).curve()
+        return offset_inward(self.pitch(theta, m), self.sigma, self.follower.radius)
+
+    def pressure_angle(self, theta: Array, m: Array) -> Array:
+        """Signed pressure angle (rad): from the trace point's direction of motion to the common
+        normal at contact (pointing out of the cam), counter-clockwise positive.
+
+        For a translating roller this is ``atan((σs′ − e)/(d + s))`` (THEORY §B); for a
+        translating flat face it is 0; for an oscillating flat face ``atan(f/l_c)``.
+        """
+        sigma, fol = self.sigma, self.follower
+        if fol.flat:
+            if not fol.oscillating:
+                return np.zeros_like(theta)
+            lines = self.face_lines(theta, m)
+            contact = rotate(lines.contact(), sigma * theta)
+            normal = rotate(np.stack((np.cos(lines.beta), np.sin(lines.beta)), axis=-1),
+                            sigma * theta)
+            moving = unit(-fol.pivot_sign * perp(contact - self.pivot))
+            return signed_angle(moving, normal)
+        f, df, _, moving = self.trace(m)
+        tangent = df - sigma * perp(f)
+        return signed_angle(moving, sigma * perp(tangent))
+
+    def face_contact(self, theta: Array, m: Array) -> Array:
+        """Where a flat face touches the cam, along the face (mm).
+
+        Translating: from the stem axis, positive toward +X (``σs′ − e``). Oscillating: from
+        the pivot's foot on the face line, along the face toward the cam centre side (l_c).
+        """
+        fol = self.follower
+        if not fol.oscillating:
+            return self.sigma * m[1] - fol.offset
+        lines = self.face_lines(theta, m)
+        contact = rotate(lines.contact(), self.sigma * theta)
+        psi = self.rest + m[0]
+        along = np.stack((-fol.pivot_sign * np.cos(psi), np.sin(psi)), axis=-1)
+        return dot(contact - self.pivot, along)

@@ -1,0 +1,243 @@
+"""A disc cam built from its design: exact curves on a dense grid for the analysis, sampled curves
+for the exports, the cam that is really cut (undercut loops trimmed), and the lift a follower
+really gets on it.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Literal
+
+import numpy as np
+
+from camfab.geometry.curves import CurvePoints, signed_angle
+from camfab.geometry.disc import DiscCam
+from camfab.geometry.follower import FollowerGeometry
+from camfab.geometry.profile import MERGE_DISTANCE, Profile
+from camfab.geometry.sampling import SAMPLING_SHARE, arc_points, sample_curve
+from camfab.geometry.simulate import simulate
+from camfab.geometry.undercut import (
+    below_face_lines,
+    cut_away,
+    is_simple,
+    outside_circle_sweep,
+    trim_loops,
+)
+from camfab.motion.law import Array
+from camfab.motion.program import MotionProgram
+
+if TYPE_CHECKING:
+    from camfab.design import Design
+
+#: Cam-angle step of the dense exact evaluation behind every reported extreme (pressure angle,
+#: radius of curvature): 0.05° puts a smooth extreme within about 1e-6 of its value.
+ANALYSIS_STEP = math.radians(0.05)
+
+#: Cam-angle step at which the follower is run over the finished profile: 0.1°, finer than any
+#: feature of a cam a tolerance of 0.001 mm can resolve on its lift.
+VERIFY_STEP = math.radians(0.1)
+
+
+@dataclass(frozen=True)
+class DenseCurves:
+    """Exact values on a fine grid, segment by segment, both ends of each segment included (the
+    one-sided values at a joint). ``face_contact`` is None unless the follower is flat."""
+
+    segment: Array
+    theta: Array
+    motion: Array
+    pitch: CurvePoints
+    working: CurvePoints
+    pressure_angle: Array
+    face_contact: Array | None
+
+
+@dataclass(frozen=True)
+class Sampled:
+    """A closed curve sampled within the tolerance, in θ order: (M,) angles and (M, 2) points."""
+
+    theta: Array
+    xy: Array
+
+
+@dataclass(frozen=True)
+class LiftCheck:
+    """The follower run over a profile: its lift error against the design at each angle.
+
+    ``error`` is in the lift's unit (mm, or rad for an oscillating follower); ``error_mm`` is the
+    same measured at the trace point (rad × arm length for an oscillating follower).
+    """
+
+    theta: Array
+    error: Array
+    error_mm: Array
+
+    @property
+    def max_mm(self) -> float:
+        return float(np.max(np.abs(self.error_mm)))
+
+    @property
+    def at_deg(self) -> float:
+        return float(np.degrees(self.theta[int(np.argmax(np.abs(self.error_mm)))]))
+
+
+@dataclass(frozen=True)
+class DiscGeometry:
+    """Everything geometric about a disc cam.
+
+    Attributes
+    ----------
+    cam
+        The exact evaluators.
+    tolerance
+        The chord tolerance the curves were sampled with (mm).
+    pitch, working
+        The sampled pitch curve and raw working curve (envelope, loops included).
+    profile
+        The cam that is cut: the working curve, its loops trimmed if it folds over (ccw).
+    folds
+        Where the curvature says the envelope folds over (dense grid mask).
+    self_intersecting
+        Whether the raw working curve crosses itself.
+    cut_theta
+        Cam angles (rad) of raw working-curve points the trimmed profile has lost.
+    lift
+        The follower run over ``profile``.
+    """
+
+    cam: DiscCam
+    tolerance: float
+    dense: DenseCurves
+    pitch: Sampled
+    working: Sampled
+    profile: Profile
+    folds: Array
+    self_intersecting: bool
+    cut_theta: Array
+    lift: LiftCheck
+
+    @property
+    def undercut(self) -> bool:
+        return bool(self.folds.any() or self.self_intersecting or self.cut_theta.size)
+
+
+def dense_curves(cam: DiscCam, program: MotionProgram, step: float = ANALYSIS_STEP) -> DenseCurves:
+    """The exact curves at every *step* of cam angle, segment by segment."""
+    parts_theta, parts_seg, parts_m = [], [], []
+    for seg in program.segments:
+        t = np.linspace(0.0, seg.span, max(3, math.ceil(seg.span / step) + 1))
+        parts_theta.append(seg.start + t)
+        parts_seg.append(np.full(t.size, seg.index))
+        parts_m.append(seg.evaluate_local(t))
+    theta = np.concatenate(parts_theta)
+    motion = np.concatenate(parts_m, axis=1)
+    contact = cam.face_contact(theta, motion) if cam.follower.flat else None
+    return DenseCurves(np.concatenate(parts_seg), theta, motion, cam.pitch(theta, motion),
+                       cam.working(theta, motion), cam.pressure_angle(theta, motion), contact)
+
+
+def sample_closed(cam: DiscCam, program: MotionProgram, curve: Literal["pitch", "working"],
+                  tolerance: float | Array) -> Sampled:
+    """The closed pitch or working curve sampled within *tolerance* (mm; one value, or one per
+    segment), segment by segment.
+
+    Where a roller's pitch curve has a corner (a velocity step at a joint), the working curve is
+    joined by the arc the roller rolls over the corner; a flat face's contact points are joined
+    by the straight edge between them.
+    """
+    evaluator = cam.pitch if curve == "pitch" else cam.working
+    thetas, points = [], []
+    segments = program.segments
+    tolerances = np.broadcast_to(np.asarray(tolerance, dtype=np.float64), (len(segments),))
+    for i, seg in enumerate(segments):
+
+        def at(t: Array, seg=seg) -> CurvePoints:  # type: ignore[no-untyped-def]
+            return evaluator(seg.start + t, seg.evaluate_local(t))
+
+        t, xy = sample_curve(at, seg.span, float(tolerances[i]))
+        thetas.append(seg.start + t)
+        points.append(xy)
+        nxt = segments[(i + 1) % len(segments)]
+        if curve == "working" and cam.follower.radius > 0.0:
+            joint = np.array([nxt.start])
+            m_right = nxt.evaluate_local(np.zeros(1))
+            start = xy[-1]
+            end = evaluator(joint, m_right).xy[0]
+            if np.hypot(*(end - start)) > MERGE_DISTANCE:
+                centre = cam.pitch(joint, m_right).xy[0]
+                sweep = float(signed_angle((start - centre)[None], (end - centre)[None])[0])
+                arc = arc_points(centre, start, sweep, float(tolerances[i]))[1:-1]
+                thetas.append(np.full(len(arc), nxt.start))
+                points.append(arc)
+    theta = np.concatenate(thetas)
+    xy = np.concatenate(points)
+    step = np.hypot(*(np.roll(xy, -1, axis=0) - xy).T)
+    keep = step > MERGE_DISTANCE
+    return Sampled(theta[keep], xy[keep])
+
+
+def _keep_test(cam: DiscCam, pitch: Sampled, dense: DenseCurves, slack: float):  # type: ignore[no-untyped-def]
+    if cam.follower.flat:
+        lines = cam.face_lines(dense.theta, dense.motion)
+        normals = np.stack((np.cos(lines.beta), np.sin(lines.beta)), axis=-1)
+        return below_face_lines(normals, lines.h, slack)
+    return outside_circle_sweep(pitch.xy, cam.follower.radius, slack)
+
+
+def folds(cam: DiscCam, dense: DenseCurves) -> Array:
+    """Where the envelope folds over: a convex pitch radius below the roller or mushroom radius,
+    or a flat face's radius ρ = Rb + s + s″ (and its oscillating counterpart) at or below 0."""
+    if cam.follower.flat:
+        return ~(dense.working.radius > 0.0)
+    radius = dense.pitch.radius
+    return (radius > 0.0) & (radius < cam.follower.radius)
+
+
+def lift_check(cam: DiscCam, program: MotionProgram, profile: Profile,
+               step: float = VERIFY_STEP) -> LiftCheck:
+    """Run the follower over *profile* and compare its lift with *program*'s."""
+    count = round(2 * math.pi / step)
+    theta = np.arange(count) * (2 * math.pi / count)
+    position = simulate(profile, cam.follower, theta, cam.sigma)
+    error = position - cam.rest - program.evaluate(theta)[0]
+    scale = cam.follower.arm_length if cam.follower.oscillating else 1.0
+    return LiftCheck(theta, error, error * scale)
+
+
+def disc_cam(design: Design) -> DiscCam:
+    """The exact evaluators of a disc-cam design."""
+    base = design.cam.base_radius
+    assert base is not None, "disc cams have a base radius (design rules)"
+    return DiscCam(FollowerGeometry.from_design(design), base, design.cam.sigma)
+
+
+def segment_tolerances(dense: DenseCurves, tolerance: float, count: int) -> Array:
+    """The chord tolerance of each segment (mm): the sampling share of *tolerance*, times the
+    cosine of the segment's largest pressure angle. A profile that strays δ along its normal
+    moves the follower δ/cos φ along its path, so this keeps the lift error within the share."""
+    worst = np.zeros(count)
+    np.maximum.at(worst, dense.segment, np.abs(dense.pressure_angle))
+    return tolerance * SAMPLING_SHARE * np.cos(np.minimum(worst, math.radians(80.0)))
+
+
+def disc_geometry(design: Design) -> DiscGeometry:
+    """Build the geometry of a disc-cam design."""
+    cam = disc_cam(design)
+    program = design.program
+    dense = dense_curves(cam, program)
+    tolerances = segment_tolerances(dense, design.manufacturing.tolerance,
+                                    len(program.segments))
+    tolerance = float(tolerances.min())
+    pitch = sample_closed(cam, program, "pitch", tolerances)
+    working = sample_closed(cam, program, "working", tolerances)
+    folded = folds(cam, dense)
+    crossing = not is_simple(working.xy)
+    xy = working.xy
+    cut_theta = np.empty(0)
+    if folded.any() or crossing:
+        xy = trim_loops(working.xy, _keep_test(cam, pitch, dense, tolerance))
+        cut_theta = working.theta[cut_away(working.xy, xy, 2 * tolerance)]
+    profile = Profile.from_points(xy).ccw()
+    return DiscGeometry(cam, tolerance, dense, pitch, working, profile, folded, crossing,
+                        cut_theta, lift_check(cam, program, profile))

@@ -1,0 +1,111 @@
+"""A closed cam contour in the cam frame: vertices joined by lines and circular arcs.
+
+Arcs use the bulge convention of DXF LWPOLYLINE: edge i runs from vertex i to vertex i + 1
+(the last back to the first) with bulge ``b = tan(included angle / 4)``, positive when the arc
+turns counter-clockwise, 0 for a straight line. :meth:`Profile.ccw` puts any contour in
+counter-clockwise order, in which a positive bulge is convex (the arc bulges outward).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from camfab.geometry.curves import cross
+from camfab.motion.law import Array
+
+#: Two consecutive vertices closer than this (mm) are one point: far below any tolerance and far
+#: above the rounding of coordinates of cams up to metres in size.
+MERGE_DISTANCE = 1e-9
+
+
+@dataclass(frozen=True)
+class Arcs:
+    """The arc edges of a profile: their edge index, centre, radius, start angle and sweep (rad,
+    counter-clockwise positive)."""
+
+    index: Array
+    centre: Array
+    radius: Array
+    start_angle: Array
+    sweep: Array
+
+
+@dataclass(frozen=True)
+class Profile:
+    """A closed contour: (N, 2) *vertices* (mm) and the (N,) *bulges* of the edges after them."""
+
+    vertices: Array
+    bulges: Array
+
+    @classmethod
+    def from_points(cls, points: Array, bulges: Array | None = None) -> Profile:
+        """A contour from points, dropping repeated points and a repeated closing point."""
+        pts = np.asarray(points, dtype=np.float64)
+        bul = np.zeros(len(pts)) if bulges is None else np.asarray(bulges, dtype=np.float64)
+        step = np.hypot(*(np.roll(pts, -1, axis=0) - pts).T)
+        keep = step > MERGE_DISTANCE
+        if not keep.any():
+            raise ValueError("a profile needs at least three distinct points")
+        return cls(pts[keep], bul[keep])
+
+    @property
+    def signed_area(self) -> float:
+        """Area (mm²), positive for counter-clockwise order, arcs included."""
+        v = self.vertices
+        area = 0.5 * float(np.sum(cross(v, np.roll(v, -1, axis=0))))
+        arcs = self.arcs()
+        segment = 0.5 * arcs.radius**2 * (arcs.sweep - np.sin(arcs.sweep))
+        return area + float(np.sum(segment))
+
+    @property
+    def area(self) -> float:
+        return abs(self.signed_area)
+
+    def ccw(self) -> Profile:
+        """The same contour in counter-clockwise order."""
+        if self.signed_area >= 0.0:
+            return self
+        vertices = self.vertices[::-1]
+        bulges = -np.roll(self.bulges[::-1], -1)
+        return Profile(vertices.copy(), bulges)
+
+    def arcs(self) -> Arcs:
+        """Centre, radius and angles of every arc edge."""
+        index = np.flatnonzero(self.bulges != 0.0)
+        start = self.vertices[index]
+        end = np.roll(self.vertices, -1, axis=0)[index]
+        bulge = self.bulges[index]
+        sweep = 4.0 * np.arctan(bulge)
+        chord = end - start
+        half = 0.5 * np.hypot(chord[:, 0], chord[:, 1])
+        left = np.stack((-chord[:, 1], chord[:, 0]), axis=-1) / np.maximum(2 * half, 1e-300)[:, None]
+        centre = 0.5 * (start + end) + (half / np.tan(sweep / 2))[:, None] * left
+        radius = half / np.abs(np.sin(sweep / 2))
+        rel = start - centre
+        return Arcs(index, centre, radius, np.arctan2(rel[:, 1], rel[:, 0]), sweep)
+
+    def points(self, tolerance: float) -> Array:
+        """The contour as points only, arcs flattened with chords within *tolerance* (mm)."""
+        if not self.bulges.any():
+            return self.vertices
+        arcs = self.arcs()
+        pieces = []
+        arc_at = dict(zip(arcs.index.tolist(), range(len(arcs.index)), strict=True))
+        for i, vertex in enumerate(self.vertices):
+            pieces.append(vertex[None, :])
+            k = arc_at.get(i)
+            if k is None:
+                continue
+            step = 2.0 * math.acos(max(-1.0, 1.0 - tolerance / arcs.radius[k]))
+            count = max(1, math.ceil(abs(arcs.sweep[k]) / step))
+            angles = arcs.start_angle[k] + np.linspace(0.0, arcs.sweep[k], count + 1)[1:-1]
+            pieces.append(arcs.centre[k] + arcs.radius[k] * np.stack((np.cos(angles),
+                                                                        np.sin(angles)), -1))
+        return np.concatenate(pieces)
+
+    def radii(self) -> Array:
+        """Distance of every vertex from the cam centre (mm)."""
+        return np.hypot(self.vertices[:, 0], self.vertices[:, 1])
