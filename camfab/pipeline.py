@@ -11,12 +11,17 @@ import tempfile
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from camfab.analysis.findings import Finding, exit_status
 from camfab.analysis.kinematics import MotionUnits, SegmentStats, continuity_findings, segment_stats
 from camfab.design import Design, load_design
 from camfab.errors import OutputError
 from camfab.motion.program import MotionProgram
+
+if TYPE_CHECKING:
+    from camfab.analysis.cam_checks import CamNumbers
+    from camfab.geometry.disc_geometry import DiscGeometry
 
 #: Every output a design may ask for, in the order files are listed.
 ALL_OUTPUTS = ("dxf", "svg", "stl", "report", "csv")
@@ -31,6 +36,8 @@ class Analysis:
     units: MotionUnits
     segments: list[SegmentStats]
     findings: list[Finding]
+    geometry: DiscGeometry | None = None
+    numbers: CamNumbers | None = None
 
     @property
     def exit_code(self) -> int:
@@ -45,7 +52,15 @@ def analyse(design: Design) -> Analysis:
     omega = design.cam.omega
     findings, steps = continuity_findings(program, units, omega)
     stats = segment_stats(program, steps, units, omega)
-    return Analysis(design, program, units, stats, findings)
+    if design.cam.type != "disc":
+        return Analysis(design, program, units, stats, findings)
+    from camfab.analysis.cam_checks import cam_findings, cam_numbers
+    from camfab.geometry.disc_geometry import disc_geometry
+
+    geometry = disc_geometry(design)
+    numbers = cam_numbers(geometry, len(program.segments))
+    findings = [*cam_findings(design, geometry, numbers), *findings]
+    return Analysis(design, program, units, stats, findings, geometry, numbers)
 
 
 def _report_json(analysis: Analysis) -> bytes:

@@ -151,7 +151,7 @@ def test_binary_garbage_and_empty_file(tmp_path: Path) -> None:
 def test_failed_build_leaves_earlier_outputs_intact(tmp_path: Path) -> None:
     good = (DESIGNS / "seed-10-4.yaml").read_text()
     (tmp_path / "d.yaml").write_text(good)
-    assert run_cli("build", "d.yaml", cwd=tmp_path).exit_code == 0
+    assert run_cli("build", "d.yaml", cwd=tmp_path).exit_code == 1  # built, with a finding
     report = tmp_path / "exports" / "seed-10-4" / "seed-10-4-report.json"
     before = report.read_bytes()
     (tmp_path / "d.yaml").write_text(good.replace("lift: 40", "lift: -40"))

@@ -67,7 +67,7 @@ def test_motion_table_rows_columns_and_right_limits() -> None:
     assert len(rows) == 360
     assert list(rows[0]) == ["cam_angle_deg", "displacement_mm", "velocity_m_s",
                              "acceleration_m_s2", "jerk_m_s3", "pressure_angle_deg",
-                             "pitch_radius_of_curvature_mm"]
+                             "pitch_radius_of_curvature_mm", "profile_radius_of_curvature_mm"]
     assert float(rows[0]["cam_angle_deg"]) == 0 and float(rows[-1]["cam_angle_deg"]) == 359
     # SHM rise: s = 20(1 - cos(1.5 θ)), a at 0 is the value after the step
     for row in rows[:120:7]:
@@ -77,13 +77,22 @@ def test_motion_table_rows_columns_and_right_limits() -> None:
     assert float(rows[0]["acceleration_m_s2"]) == pytest.approx(493.48, rel=1e-4)
     assert float(rows[120]["acceleration_m_s2"]) == 0.0  # the dwell, just after the step
     assert float(rows[180]["acceleration_m_s2"]) == pytest.approx(-900.0, rel=1e-9)
-    assert rows[5]["pressure_angle_deg"] == ""  # not computed by this build
+    # the seed's formula tan φ = (s′ − e)/(√(Rp² − e²) + s) with e = 10, Rp = 27 (ccw)
+    for row in rows[::11]:
+        theta = math.radians(float(row["cam_angle_deg"]))
+        s = float(row["displacement_mm"])
+        v = float(row["velocity_m_s"]) * 1000 / (1000 * math.pi / 30)
+        phi = math.degrees(math.atan((v - 10) / (math.sqrt(27**2 - 10**2) + s)))
+        assert float(row["pressure_angle_deg"]) == pytest.approx(phi, abs=1e-6)
+    # on the base-circle dwell the pitch curve is the prime circle, the profile the base circle
+    assert float(rows[300]["pitch_radius_of_curvature_mm"]) == pytest.approx(27.0, abs=1e-9)
+    assert float(rows[300]["profile_radius_of_curvature_mm"]) == pytest.approx(20.0, abs=1e-9)
 
 
 def test_motion_table_without_speed_and_oscillating() -> None:
     rows = table_of(load_design(DESIGNS / "seed-10-3-oscillating.yaml"))
     assert list(rows[0]) == ["cam_angle_deg", "displacement_deg", "pressure_angle_deg",
-                             "pitch_radius_of_curvature_mm"]
+                             "pitch_radius_of_curvature_mm", "profile_radius_of_curvature_mm"]
     assert max(float(r["displacement_deg"]) for r in rows) == pytest.approx(28.0)
 
 

@@ -1,8 +1,9 @@
 """``NAME-motion.csv``: the follower motion at every ``table_step`` of cam angle (SPEC §5).
 
 Rows run from 0 to 360° − step. Where a value steps exactly at a row, the row gives the value just
-after the step. Columns a later stage of camfab fills (pressure angle, pitch radius of curvature)
-are present and empty until geometry is computed.
+after the step. The pressure angle is signed (counter-clockwise from the follower's direction of
+motion to the cam's normal); radii of curvature are signed, convex positive, and empty where the
+curve is straight. Cam types whose geometry is not computed leave these columns empty.
 """
 
 from __future__ import annotations
@@ -30,8 +31,14 @@ def motion_table(analysis: Analysis) -> tuple[list[str], np.ndarray]:
         for order in (1, 2, 3):
             columns.append(units.key(order))
             values.append(units.to_si(order, s[order], omega))
-    columns += ["pressure_angle_deg", "pitch_radius_of_curvature_mm"]
-    values += [np.full(count, np.nan), np.full(count, np.nan)]
+    columns += ["pressure_angle_deg", "pitch_radius_of_curvature_mm",
+                "profile_radius_of_curvature_mm"]
+    geom = analysis.geometry
+    if geom is None:
+        values += [np.full(count, np.nan)] * 3
+    else:
+        values += [np.degrees(geom.cam.pressure_angle(theta, s)),
+                   geom.cam.pitch(theta, s).radius, geom.cam.working(theta, s).radius]
     return columns, np.column_stack(values)
 
 

@@ -1,8 +1,10 @@
 """``NAME-report.json``: the inspection report for machines (SPEC §5).
 
-Keys carry their units. Values a later stage of camfab computes but this build did not are present
-and ``null``; values unbounded in theory (the jerk where the acceleration steps) are ``null`` too,
-with a ``continuity`` check saying where.
+Keys carry their units; lengths are millimetres whatever the design's units. Values a later stage
+of camfab computes but this build did not are present and ``null``; values unbounded in theory
+(the jerk where the acceleration steps) are ``null`` too, with a ``continuity`` check saying where.
+Angle ranges are ``[start_deg, end_deg]`` in the direction of rotation; one running through 0°
+has start > end.
 """
 
 from __future__ import annotations
@@ -12,6 +14,7 @@ import math
 from typing import TYPE_CHECKING, Any
 
 from camfab import __version__
+from camfab.analysis.cam_checks import offset_side
 from camfab.analysis.findings import count
 
 if TYPE_CHECKING:
@@ -41,7 +44,7 @@ def report_dict(analysis: Analysis) -> dict[str, Any]:
         "checks": [f.to_json() for f in analysis.findings],
         "dynamics": {"jump_speed_rpm": None, "min_contact_force_N": None,
                      "required_preload_N": None},
-        "verification": {"max_lift_error_mm": None},
+        "verification": _verification(analysis),
         "status": {
             "exit_code": analysis.exit_code,
             "errors": count(analysis.findings, "error"),
@@ -57,14 +60,47 @@ def _geometry(analysis: Analysis) -> dict[str, Any]:
                 "groove_depth_mm": cam.groove_depth, "roller_radius_mm": fol.roller_radius,
                 "pitch_radius_mm": None, "root_pressure_angle_max_deg": None}
     base = cam.base_radius
-    return {
+    geom, numbers = analysis.geometry, analysis.numbers
+    if geom is None or numbers is None or base is None:
+        return {"base_radius_mm": base}
+    contact = numbers.face_contact_mm
+    required = None if contact is None else contact[1] - contact[0]
+    out: dict[str, Any] = {
         "base_radius_mm": base,
-        "prime_radius_mm": None if base is None else base + fol.trace_radius,
-        "max_radius_mm": None,
-        "pitch_min_radius_of_curvature_mm": None,
-        "profile_min_radius_of_curvature_mm": None,
-        "profile_min_concave_radius_mm": None,
-        "face_width_required_mm": None,
+        "prime_radius_mm": geom.cam.prime_radius,
+        "max_radius_mm": numbers.max_radius_mm,
+        "pitch_min_radius_of_curvature_mm": numbers.pitch_min_convex.value,
+        "pitch_min_radius_of_curvature_at_deg": numbers.pitch_min_convex.at_deg,
+        "pitch_min_concave_radius_mm": numbers.pitch_min_concave.value,
+        "profile_min_radius_of_curvature_mm": numbers.profile_min_convex.value,
+        "profile_min_radius_of_curvature_at_deg": numbers.profile_min_convex.at_deg,
+        "profile_min_concave_radius_mm": numbers.profile_min_concave.value,
+        "profile_min_concave_radius_at_deg": numbers.profile_min_concave.at_deg,
+        "face_width_required_mm": required,
+        "face_contact_range_mm": None if contact is None else list(contact),
+        "pressure_angle_max_deg": numbers.pressure_angle.value,
+        "pressure_angle_max_at_deg": numbers.pressure_angle.at_deg,
+        "pressure_angle_limit_deg": math.degrees(analysis.design.pressure_angle_limit),
+        "offset_side_lowering_rise_pressure_angle": offset_side(analysis.design),
+        "undercut": geom.undercut,
+        "undercut_ranges_deg": [list(r) for r in numbers.undercut_ranges],
+        "profile_points": len(geom.profile.vertices),
+        "sampling_tolerance_mm": geom.tolerance,
+    }
+    if fol.oscillating:
+        out["rest_arm_angle_deg"] = math.degrees(geom.cam.rest)
+    return out
+
+
+def _verification(analysis: Analysis) -> dict[str, Any]:
+    geom = analysis.geometry
+    if geom is None:
+        return {"max_lift_error_mm": None}
+    return {
+        "max_lift_error_mm": geom.lift.max_mm,
+        "max_lift_error_at_deg": geom.lift.at_deg,
+        "checked_on": "sampled profile",
+        "angle_step_deg": math.degrees(float(geom.lift.theta[1] - geom.lift.theta[0])),
     }
 
 
@@ -83,14 +119,19 @@ def _segment(stats: Any, analysis: Analysis) -> dict[str, Any]:
     for order in (1, 2, 3):
         out[units.per_rad_key(order)] = stats.max_per_rad[order - 1]
     out["law_coefficients"] = dict(zip(("Cv", "Ca", "Cj"), stats.coefficients, strict=True))
-    out["max_pressure_angle_deg"] = None
+    numbers = analysis.numbers
+    worst = None if numbers is None else numbers.segment_pressure[stats.index]
+    out["max_pressure_angle_deg"] = None if worst is None else worst.value
+    out["max_pressure_angle_at_deg"] = None if worst is None else worst.at_deg
     return out
 
 
 def _clean(value: Any) -> Any:
-    """JSON has no infinities or NaN: unbounded or undefined values become null."""
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
+    """JSON has no infinities or NaN: unbounded or undefined values become null; floats are
+    rounded to 12 significant digits."""
+    if isinstance(value, float):
+        # 12 significant digits: far below any tolerance, and 30° does not print as 29.999…
+        return float(f"{value:.12g}") if math.isfinite(value) else None
     if isinstance(value, dict):
         return {k: _clean(v) for k, v in value.items()}
     if isinstance(value, (list, tuple)):

@@ -1,0 +1,220 @@
+"""Checks of a disc cam's geometry: pressure angle, undercut, curvature margin, face width.
+
+Each check yields a :class:`~camfab.analysis.findings.Finding`; lengths are in millimetres and
+angles in degrees whatever the design's units.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from camfab.analysis.findings import Finding
+from camfab.analysis.kinematics import degrees
+from camfab.analysis.ranges import Range, merge, ranges_deg
+from camfab.design import Design
+from camfab.geometry.disc_geometry import DiscGeometry
+from camfab.motion.law import Array
+
+
+@dataclass(frozen=True)
+class Extreme:
+    """A largest or smallest value (in the report unit) and where it occurs (deg); None when the
+    curve never has that kind of value (no concave part, say)."""
+
+    value: float | None
+    at_deg: float | None
+
+
+def _extreme(theta: Array, values: Array, mask: Array | None = None, *,
+             largest: bool) -> Extreme:
+    picked = np.isfinite(values) if mask is None else (mask & np.isfinite(values))
+    if not picked.any():
+        return Extreme(None, None)
+    index = np.flatnonzero(picked)
+    best = index[np.argmax(values[index]) if largest else np.argmin(values[index])]
+    return Extreme(float(values[best]), degrees(float(theta[best])))
+
+
+@dataclass(frozen=True)
+class CamNumbers:
+    """The key numbers of a disc cam (mm, deg)."""
+
+    max_radius_mm: float
+    pitch_min_convex: Extreme
+    pitch_min_concave: Extreme
+    profile_min_convex: Extreme
+    profile_min_concave: Extreme
+    pressure_angle: Extreme
+    segment_pressure: list[Extreme]
+    face_contact_mm: tuple[float, float] | None
+    undercut_ranges: tuple[Range, ...]
+
+
+def cam_numbers(geom: DiscGeometry, segment_count: int) -> CamNumbers:
+    """Extremes of curvature and pressure angle, radii, face contact and undercut ranges."""
+    dense = geom.dense
+    theta = dense.theta
+    rp, rw = dense.pitch.radius, dense.working.radius
+    phi = np.degrees(np.abs(dense.pressure_angle))
+    per_segment = [_extreme(theta, phi, dense.segment == i, largest=True)
+                   for i in range(segment_count)]
+    contact = None
+    if dense.face_contact is not None:
+        contact = (float(dense.face_contact.min()), float(dense.face_contact.max()))
+    cut = geom.working.theta
+    cut_mask = np.isin(cut, geom.cut_theta)
+    undercut = merge([*ranges_deg(theta, geom.folds), *ranges_deg(cut, cut_mask)])
+    return CamNumbers(
+        max_radius_mm=float(np.max(geom.profile.radii())),
+        pitch_min_convex=_extreme(theta, rp, rp > 0, largest=False),
+        pitch_min_concave=_extreme(theta, -rp, rp < 0, largest=False),
+        profile_min_convex=_extreme(theta, rw, rw > 0, largest=False),
+        profile_min_concave=_extreme(theta, -rw, rw < 0, largest=False),
+        pressure_angle=_extreme(theta, phi, largest=True),
+        segment_pressure=per_segment,
+        face_contact_mm=contact,
+        undercut_ranges=undercut,
+    )
+
+
+def offset_side(design: Design) -> str | None:
+    """Which side of the cam centre an offset of a translating follower lowers the rise pressure
+    angle on: ``+X`` for a counter-clockwise cam, ``-X`` for a clockwise one (SPEC §2)."""
+    fol = design.follower
+    if fol.oscillating or fol.type == "flat":
+        return None
+    return "+X" if design.cam.sigma > 0 else "-X"
+
+
+def _fmt(value: float) -> str:
+    return f"{value:.4g}"
+
+
+def _where(ranges: tuple[Range, ...]) -> str:
+    return ", ".join(f"{_fmt(a)}°–{_fmt(b)}°" for a, b in ranges)
+
+
+def pressure_angle_finding(design: Design, geom: DiscGeometry, numbers: CamNumbers) -> Finding:
+    """|φ| against ``limits.pressure_angle`` over the whole cycle."""
+    limit = math.degrees(design.pressure_angle_limit)
+    worst = numbers.pressure_angle
+    value = worst.value or 0.0
+    dense = geom.dense
+    over = ranges_deg(dense.theta, np.degrees(np.abs(dense.pressure_angle)) > limit)
+    if not over:
+        message = f"largest pressure angle {_fmt(value)}° at {_fmt(worst.at_deg or 0.0)}°"
+        if value == 0.0 and design.follower.type == "flat" and not design.follower.oscillating:
+            message = "a flat face perpendicular to its motion has no pressure angle"
+        return Finding("pressure_angle", True, "error",
+                       f"{message}, within the limit {_fmt(limit)}°", value, limit, "deg")
+    side = offset_side(design)
+    advice = "a larger base radius or a longer rise or return lowers it"
+    if side is not None:
+        advice = (f"an offset toward {side} lowers it on the rise (and raises it on the return); "
+                  + advice)
+    return Finding(
+        "pressure_angle", False, "error",
+        f"pressure angle reaches {_fmt(value)}° at {_fmt(worst.at_deg or 0.0)}°, over the limit "
+        f"{_fmt(limit)}° at {_where(over)}: {advice}",
+        value, limit, "deg", over)
+
+
+def undercut_finding(design: Design, geom: DiscGeometry, numbers: CamNumbers) -> Finding:
+    """Does the follower's envelope fold over (or cross itself)? With the motion error it causes."""
+    fol = design.follower
+    ranges = numbers.undercut_ranges
+    motion = (f"the cam that is really cut moves the follower up to "
+              f"{_fmt(geom.lift.max_mm)} mm off the design at {_fmt(geom.lift.at_deg)}°")
+    if fol.type == "flat":
+        worst = numbers.profile_min_convex if not geom.folds.any() else _extreme(
+            geom.dense.theta, geom.dense.working.radius, largest=False)
+        value = worst.value
+        if not geom.undercut:
+            return Finding("undercut", True, "error",
+                           f"the profile's radius of curvature stays positive (smallest "
+                           f"{_fmt(value or 0.0)} mm at {_fmt(worst.at_deg or 0.0)}°)",
+                           value, 0.0, "mm")
+        need = ""
+        if not fol.oscillating and value is not None:
+            base = design.cam.base_radius or 0.0
+            need = f"; a base radius above {_fmt(base - value)} mm removes the cusp"
+        rho = "ρ" if fol.oscillating else "ρ = Rb + s + s″"
+        return Finding("undercut", False, "error",
+                       f"the flat face's envelope has a cusp (its radius of curvature {rho} falls "
+                       f"to {_fmt(value or 0.0)} mm) at {_where(ranges)}: {motion}{need}",
+                       value, 0.0, "mm", ranges)
+    radius = fol.trace_radius
+    smallest = numbers.pitch_min_convex
+    value = smallest.value
+    if not geom.undercut:
+        where = f" at {_fmt(smallest.at_deg or 0.0)}°" if value is not None else ""
+        shape = {"knife": "knife edge", "roller": "roller", "mushroom": "mushroom face"}[fol.type]
+        return Finding("undercut", True, "error",
+                       f"the pitch curve's smallest convex radius {_fmt(value or 0.0)} mm{where} "
+                       f"is larger than the {shape} radius {_fmt(radius)} mm", value, radius,
+                       "mm")
+    what = "roller" if fol.type == "roller" else "mushroom face"
+    need = (f"a {what} radius below {_fmt(value)} mm, a larger base radius or a longer rise or "
+            f"return avoids it" if value is not None else "a larger base radius avoids it")
+    return Finding("undercut", False, "error",
+                   f"the {what} radius {_fmt(radius)} mm exceeds the pitch curve's convex radius "
+                   f"of curvature (down to {_fmt(value or 0.0)} mm) at {_where(ranges)}: the "
+                   f"envelope folds over and is cut away; {motion}; {need}",
+                   value, radius, "mm", ranges)
+
+
+def curvature_finding(design: Design, geom: DiscGeometry, numbers: CamNumbers) -> Finding | None:
+    """The convex working curve against ``limits.min_radius_of_curvature`` (when set)."""
+    margin = design.limits.min_radius_of_curvature
+    if margin <= 0.0:
+        return None
+    smallest = numbers.profile_min_convex
+    value = smallest.value
+    dense = geom.dense
+    low = ranges_deg(dense.theta, (dense.working.radius > 0) & (dense.working.radius < margin))
+    ok = not low and not geom.undercut
+    message = (f"smallest convex radius of the profile {_fmt(value or 0.0)} mm at "
+               f"{_fmt(smallest.at_deg or 0.0)}°, "
+               + (f"at least {_fmt(margin)} mm" if ok else
+                  f"below the required {_fmt(margin)} mm at {_where(low)}"))
+    return Finding("curvature", ok, "error", message, value, margin, "mm", low)
+
+
+def face_width_finding(design: Design, numbers: CamNumbers) -> Finding | None:
+    """The face width a flat follower needs, against ``face_width`` when given.
+
+    A translating face is centred on its stem, so it must reach the farther contact point on
+    each side; an oscillating face must cover the span of contact along it.
+    """
+    fol = design.follower
+    if fol.type != "flat" or numbers.face_contact_mm is None:
+        return None
+    low, high = numbers.face_contact_mm
+    if fol.oscillating:
+        needed = high - low
+        where = f"from {_fmt(low)} to {_fmt(high)} mm along the face from the pivot's foot"
+    else:
+        needed = 2.0 * max(abs(low), abs(high))
+        where = f"from {_fmt(low)} to {_fmt(high)} mm of the stem axis"
+    if fol.face_width is None:
+        return Finding("face_width", True, "error",
+                       f"contact runs {where}: the face must be at least {_fmt(needed)} mm wide",
+                       needed, None, "mm")
+    ok = fol.face_width >= needed
+    verdict = "covers it" if ok else "is too narrow: the cam edge would dig into the face"
+    return Finding("face_width", ok, "error",
+                   f"contact runs {where}, needing a face {_fmt(needed)} mm wide; the face of "
+                   f"{_fmt(fol.face_width)} mm {verdict}", needed, fol.face_width, "mm")
+
+
+def cam_findings(design: Design, geom: DiscGeometry,
+                 numbers: CamNumbers) -> list[Finding]:
+    """Every geometric check of a disc cam."""
+    found = [pressure_angle_finding(design, geom, numbers),
+             undercut_finding(design, geom, numbers),
+             curvature_finding(design, geom, numbers),
+             face_width_finding(design, numbers)]
+    return [f for f in found if f is not None]
