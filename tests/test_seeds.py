@@ -106,3 +106,70 @@ def test_seed_eccentric_cam_motion_and_its_jump_speed() -> None:
     assert math.sqrt(omega_j2) * 60 / (2 * math.pi) == pytest.approx(1888.7, rel=1e-4)
     # a full-cycle harmonic is smooth everywhere: no continuity finding fails
     assert all(f.ok for f in analyse(design).findings)
+
+
+# ---- the notes' pressure-angle formula and its conclusions ----------------------------------
+
+def _with(text: str, **changes: str) -> str:
+    for old, new in changes.items():
+        text = text.replace(old, new)
+    return text
+
+
+def _rise_and_return_pressure(text: str) -> tuple[float, float]:
+    from camfab.design import design_from_text
+
+    analysis = analyse(design_from_text(text))
+    assert analysis.numbers is not None
+    per_segment = analysis.numbers.segment_pressure
+    rise = next(i for i, s in enumerate(analysis.program.segments) if s.kind == "rise")
+    ret = next(i for i, s in enumerate(analysis.program.segments) if s.kind == "return")
+    return per_segment[rise].value or 0.0, per_segment[ret].value or 0.0
+
+
+def test_pressure_angle_formula_of_the_notes() -> None:
+    """tan φ = (dy/dθ − e)/(√(r_b² − e²) + y), r_b the prime radius (ccw cam, offset e)."""
+    design = load_design(DESIGNS / "seed-10-4.yaml")
+    analysis = analyse(design)
+    assert analysis.geometry is not None
+    theta = np.linspace(0, 2 * math.pi, 3600, endpoint=False)
+    m = design.program.evaluate(theta)
+    e, rp = 10.0, 27.0
+    notes = np.degrees(np.arctan((m[1] - e) / (math.sqrt(rp**2 - e**2) + m[0])))
+    ours = np.degrees(analysis.geometry.cam.pressure_angle(theta, m))
+    assert np.max(np.abs(ours - notes)) < 1e-9
+    rise = analysis.numbers.segment_pressure[0] if analysis.numbers else None
+    assert rise is not None and rise.value == pytest.approx(25.47, abs=0.01)
+
+
+def test_offset_lowers_the_rise_pressure_angle_and_raises_the_return() -> None:
+    """Conclusion ②: increasing e lowers φ on the outstroke and raises it on the return.
+
+    Only while s′ > e where the rise is steepest: at e = 15 mm the start of the rise, where
+    s′ = 0, has |φ| = atan(e/√(Rp² − e²)) = 33.7° and becomes the worst point.
+    """
+    text = (DESIGNS / "seed-10-4.yaml").read_text()
+    angles = [_rise_and_return_pressure(_with(text, **{"offset: 10": f"offset: {e}"}))
+              for e in (0, 5, 10)]
+    rises, returns = zip(*angles, strict=True)
+    assert all(a > b for a, b in zip(rises, rises[1:], strict=False))
+    assert all(a < b for a, b in zip(returns, returns[1:], strict=False))
+    # on a clockwise cam the same offset acts the other way round (SPEC §2)
+    cw = [_rise_and_return_pressure(_with(text, **{"offset: 10": f"offset: {e}",
+                                                   "type: disc": "type: disc\n  rotation: cw"}))
+          for e in (-10, 0, 10)]
+    assert cw[0][0] < cw[1][0] < cw[2][0]
+
+
+def test_larger_base_circle_lowers_the_pressure_angle() -> None:
+    """Conclusion ③: with e = 0, tan φ = (dy/dθ)/(r_b + y), so a larger r_b lowers φ."""
+    text = _with((DESIGNS / "seed-10-4.yaml").read_text(), **{"offset: 10": "offset: 0"})
+    rises = [_rise_and_return_pressure(_with(text, **{"base_radius: 20": f"base_radius: {rb}"}))[0]
+             for rb in (20, 30, 45)]
+    assert rises[0] > rises[1] > rises[2]
+    # and for e = 0 the largest rise angle is atan(max over θ of s′/(Rp + s))
+    design = load_design(DESIGNS / "seed-10-4.yaml")
+    theta = np.linspace(0, 2 * math.pi / 3, 20001)
+    m = design.program.evaluate(theta)
+    expected = math.degrees(math.atan(float(np.max(m[1] / (27.0 + m[0])))))
+    assert rises[0] == pytest.approx(expected, abs=1e-4)

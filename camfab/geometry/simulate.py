@@ -340,13 +340,14 @@ def _face_angle(points: Array, distance: Array | float, pivot: Array,
 
 def _swinging_face(profile: Profile, fol: FollowerGeometry, grid: _Grid) -> None:
     """A face at ``face_offset`` from the pivot, swinging with the arm. Its normal's direction
-    depends on the answer, so a coarse pass over every corner finds the range of swing first."""
+    depends on the answer, so a coarse pass over every corner and arc finds the range of swing
+    first."""
     pivot = np.array([fol.pivot_sign * fol.pivot_distance, 0.0])
     corners, arriving, cone, circles = _support_pieces(profile)
     coarse = _Grid(np.arange(0.0, TWO_PI, _COARSE_STEP), grid.sigma)
-    pieces = np.repeat(np.arange(len(corners)), coarse.theta.size)
-    k = np.tile(np.arange(coarse.theta.size), len(corners))
-    coarse.keep(k, _face_angle(coarse.frame(corners[pieces], k), fol.face_offset, pivot, fol))
+    _touch_face(coarse, corners, circles, fol, pivot, np.full(len(corners), -math.pi),
+                np.full(len(corners), math.pi), np.full(len(circles), -math.pi),
+                np.full(len(circles), math.pi))
     swing = coarse.best[np.isfinite(coarse.best)]
     if swing.size == 0:
         return
@@ -354,10 +355,18 @@ def _swinging_face(profile: Profile, fol: FollowerGeometry, grid: _Grid) -> None
     margin = min(math.pi, margin + _COARSE_STEP) if np.isfinite(margin) else math.pi
     normal = math.pi / 2 - fol.pivot_sign * np.array([swing.min() - margin, swing.max() + margin])
     low, high = normal.min(), normal.max()
-    for f, k in grid.turned(low - arriving - cone, high - arriving):
+    _touch_face(grid, corners, circles, fol, pivot, low - arriving - cone, high - arriving,
+                low - circles.start - circles.sweep, high - circles.start)
+
+
+def _touch_face(grid: _Grid, corners: Array, circles: _Circles, fol: FollowerGeometry,
+                pivot: Array, corner_lo: Array, corner_hi: Array, arc_lo: Array,
+                arc_hi: Array) -> None:
+    """The swinging face against corners and convex arcs, within the windows of σθ given."""
+    for f, k in grid.turned(corner_lo, corner_hi):
         grid.keep(k, _face_angle(grid.frame(corners[f], k), fol.face_offset, pivot, fol))
     if len(circles):
-        for f, k in grid.turned(low - circles.start - circles.sweep, high - circles.start):
+        for f, k in grid.turned(arc_lo, arc_hi):
             psi = _face_angle(grid.frame(circles.centre[f], k),
                               fol.face_offset + circles.radius[f], pivot, fol)
             outward = grid.to_cam_angle(math.pi / 2 - fol.pivot_sign * psi, k)

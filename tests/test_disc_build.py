@@ -1,0 +1,189 @@
+"""Built disc cams: sampled profiles within tolerance, the follower never penetrating the cam,
+the round trip design → profile → lift, undercut trimming, and the follower simulation checked
+against closed-form answers on profiles that are not made by camfab's synthesis."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+import shapely
+from scipy.optimize import brentq
+
+from camfab.design import design_from_text, load_design
+from camfab.geometry.disc_geometry import disc_geometry
+from camfab.geometry.follower import FollowerGeometry
+from camfab.geometry.profile import Profile
+from camfab.geometry.simulate import simulate
+from camfab.pipeline import analyse
+
+from .conftest import DESIGN_FILES, DESIGNS
+
+DISC_DESIGNS = [p for p in DESIGN_FILES if load_design(p).cam.type == "disc"]
+CLEAN = [p for p in DISC_DESIGNS if p.stem != "demo-undercut"]
+
+
+@pytest.mark.parametrize("path", CLEAN, ids=[p.stem for p in CLEAN])
+def test_round_trip_lift_error_is_within_the_tolerance(path) -> None:  # type: ignore[no-untyped-def]
+    design = load_design(path)
+    geom = disc_geometry(design)
+    tolerance = design.manufacturing.tolerance
+    assert not geom.undercut
+    assert geom.lift.max_mm <= tolerance
+    # the sampled profile stays within the tolerance of the exact curve (dense, independent θ)
+    ring = shapely.LinearRing(geom.profile.vertices)
+    exact = geom.dense.working.xy
+    assert float(np.max(shapely.distance(ring, shapely.points(exact)))) <= tolerance
+    assert ring.is_simple
+
+
+@pytest.mark.parametrize("path", CLEAN, ids=[p.stem for p in CLEAN])
+def test_the_follower_never_penetrates_the_cam(path) -> None:  # type: ignore[no-untyped-def]
+    design = load_design(path)
+    geom = disc_geometry(design)
+    fol = design.follower
+    cam_polygon = shapely.Polygon(geom.profile.vertices)
+    tolerance = design.manufacturing.tolerance
+    if fol.type == "flat":
+        # every point of the cam lies on the cam side of the face line at every angle
+        lines = geom.cam.face_lines(geom.dense.theta, geom.dense.motion)
+        normals = np.stack((np.cos(lines.beta), np.sin(lines.beta)), -1)
+        reach = geom.profile.vertices @ normals.T - lines.h[None, :]
+        assert float(reach.max()) <= 1e-9
+        return
+    centres = shapely.points(geom.dense.pitch.xy)
+    inside = shapely.contains(cam_polygon, centres)
+    gap = np.where(inside, -1.0, 1.0) * shapely.distance(cam_polygon.exterior, centres)
+    assert float(gap.min()) >= fol.trace_radius - tolerance
+    # every working-curve point is one roller radius from the pitch curve
+    pitch_ring = shapely.LinearRing(geom.pitch.xy)
+    spacing = shapely.distance(pitch_ring, shapely.points(geom.working.xy))
+    assert np.allclose(spacing, fol.trace_radius, atol=tolerance)
+
+
+def test_points_are_placed_by_chord_error() -> None:
+    text = (DESIGNS / "seed-poly-345.yaml").read_text()
+    counts = {}
+    for tol in (0.01, 0.0001):
+        design = design_from_text(text + f"manufacturing: {{tolerance: {tol}}}\n")
+        geom = disc_geometry(design)
+        counts[tol] = len(geom.profile.vertices)
+        ring = shapely.LinearRing(geom.profile.vertices)
+        dev = shapely.distance(ring, shapely.points(geom.dense.working.xy))
+        assert float(dev.max()) <= tol
+        assert geom.lift.max_mm <= tol
+    # chord error ∝ chord², so 100× finer needs about 10× the points, not 100×
+    assert 6 < counts[0.0001] / counts[0.01] < 14
+
+
+def test_undercut_roller_is_trimmed_and_its_motion_error_measured() -> None:
+    design = load_design(DESIGNS / "demo-undercut.yaml")
+    analysis = analyse(design)
+    geom = analysis.geometry
+    assert geom is not None and geom.undercut and geom.self_intersecting
+    finding = next(f for f in analysis.findings if f.id == "undercut")
+    assert not finding.ok and finding.severity == "error"
+    assert finding.limit == 12.0 and finding.value == pytest.approx(10.94, abs=0.01)
+    (start, end), = finding.ranges_deg
+    assert start < 45.0 < end and end - start < 20.0  # the nose, at the top of the lift
+    # the cut cam: simple, and the roller never enters it
+    ring = shapely.LinearRing(geom.profile.vertices)
+    assert ring.is_simple
+    polygon = shapely.Polygon(geom.profile.vertices)
+    centres = shapely.points(geom.dense.pitch.xy)
+    assert float(shapely.distance(polygon.exterior, centres).min()) >= 12.0 - 1e-3
+    assert not shapely.contains(polygon, centres).any()
+    # the follower cannot reach the full lift at the nose: the error is real, and where it is
+    assert 0.05 < geom.lift.max_mm < 1.0 and abs(geom.lift.at_deg - 45.0) < 3.0
+    assert float(geom.lift.error.max()) <= 1e-3  # never pushed above the design motion
+    assert f"{geom.lift.max_mm:.4g} mm off the design" in finding.message
+    assert "roller radius below 10.94 mm" in finding.message
+
+
+FLAT_CUSP = """
+name: flat-cusp
+cam: {type: disc, base_radius: 10, thickness: 8}
+follower: {type: flat}
+motion:
+  - rise: {angle: 90, lift: 30, law: cycloidal}
+  - dwell: {angle: 10}
+  - return: {angle: 90, law: cycloidal}
+  - dwell: {angle: 170}
+"""
+
+
+def test_flat_face_cusp_is_an_undercut() -> None:
+    analysis = analyse(design_from_text(FLAT_CUSP))
+    geom = analysis.geometry
+    assert geom is not None and geom.undercut
+    finding = next(f for f in analysis.findings if f.id == "undercut")
+    assert not finding.ok and finding.value is not None and finding.value < 0.0
+    # Rb + s + s″ ≥ 0 needs Rb ≥ −min(s + s″); the message names that radius
+    s = geom.dense.motion
+    needed = -float(np.min(s[0] + s[2]))
+    assert f"base radius above {needed:.4g} mm" in finding.message
+    # the trimmed cam is the intersection of the half-planes below every face line
+    lines = geom.cam.face_lines(geom.dense.theta, geom.dense.motion)
+    normals = np.stack((np.cos(lines.beta), np.sin(lines.beta)), -1)
+    assert float((geom.profile.vertices @ normals.T - lines.h).max()) <= 1e-3
+    assert geom.lift.max_mm > 1.0
+
+
+# ---- the simulation on profiles camfab did not make -----------------------------------------
+
+R, C = 30.0, 12.0  # an eccentric disc: radius R, centre C from the cam centre along +X
+
+
+def eccentric(as_arcs: bool) -> Profile:
+    if as_arcs:  # two half circles as bulged edges
+        return Profile(np.array([[C + R, 0.0], [C - R, 0.0]]), np.array([1.0, 1.0]))
+    angle = np.linspace(0, 2 * math.pi, 20000, endpoint=False)
+    return Profile.from_points(np.stack((C + R * np.cos(angle), R * np.sin(angle)), -1))
+
+
+THETA = np.linspace(0, 2 * math.pi, 720, endpoint=False)
+
+
+def centre_in_frame(sigma: int) -> np.ndarray:
+    return np.stack((C * np.cos(sigma * THETA), C * np.sin(sigma * THETA)), -1)
+
+
+@pytest.mark.parametrize("as_arcs", [True, False], ids=["arcs", "points"])
+@pytest.mark.parametrize("sigma", [1, -1])
+def test_simulated_translating_followers_on_an_eccentric(as_arcs: bool, sigma: int) -> None:
+    prof = eccentric(as_arcs)
+    tol = 1e-9 if as_arcs else 2e-5
+    c = centre_in_frame(sigma)
+    for e, rr in ((0.0, 0.0), (7.0, 10.0), (-5.0, 4.0)):
+        fol = FollowerGeometry("roller" if rr else "knife", radius=rr, offset=e)
+        expected = c[:, 1] + np.sqrt((R + rr) ** 2 - (e - c[:, 0]) ** 2)
+        assert np.max(np.abs(simulate(prof, fol, THETA, sigma) - expected)) < tol
+    flat = simulate(prof, FollowerGeometry("flat"), THETA, sigma)
+    assert np.max(np.abs(flat - (c[:, 1] + R))) < tol
+
+
+@pytest.mark.parametrize("as_arcs", [True, False], ids=["arcs", "points"])
+@pytest.mark.parametrize(("sigma", "side"), [(1, 1), (-1, 1), (1, -1)])
+def test_simulated_oscillating_followers_on_an_eccentric(as_arcs: bool, sigma: int,
+                                                        side: int) -> None:
+    prof = eccentric(as_arcs)
+    tol = 1e-9 if as_arcs else 1e-6
+    a, arm, rr, f = 80.0, 60.0, 8.0, 5.0
+    pivot = np.array([side * a, 0.0])
+    c = centre_in_frame(sigma)
+    roller = simulate(prof, FollowerGeometry("roller", True, rr, pivot_distance=a, arm_length=arm,
+                                             pivot_sign=side), THETA, sigma)
+    face = simulate(prof, FollowerGeometry("flat", True, pivot_distance=a, arm_length=arm,
+                                           pivot_sign=side, face_offset=f), THETA, sigma)
+    for k in range(0, len(THETA), 7):
+        def gap(psi: float, k: int = k) -> float:  # roller centre to disc centre, minus R + rr
+            b = pivot + arm * np.array([-side * math.cos(psi), math.sin(psi)])
+            return float(np.hypot(*(b - c[k]))) - (R + rr)
+
+        def clearance(psi: float, k: int = k) -> float:  # face line to disc centre, minus R + f
+            n = np.array([-side * math.sin(psi), -math.cos(psi)])
+            return float((c[k] - pivot) @ n) - (f + R)
+
+        assert roller[k] == pytest.approx(brentq(gap, 0.0, math.pi / 2), abs=tol)
+        assert face[k] == pytest.approx(brentq(clearance, 0.0, math.pi / 2), abs=tol)
