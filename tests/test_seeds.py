@@ -156,7 +156,7 @@ def test_offset_lowers_the_rise_pressure_angle_and_raises_the_return() -> None:
     assert all(a < b for a, b in zip(returns, returns[1:], strict=False))
     # on a clockwise cam the same offset acts the other way round (SPEC §2)
     cw = [_rise_and_return_pressure(_with(text, **{"offset: 10": f"offset: {e}",
-                                                   "type: disc": "type: disc\n  rotation: cw"}))
+                                                   "rotation: ccw": "rotation: cw"}))
           for e in (-10, 0, 10)]
     assert cw[0][0] < cw[1][0] < cw[2][0]
 
