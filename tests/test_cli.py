@@ -13,7 +13,6 @@ from camfab.cli import STARTER_KINDS
 
 from .conftest import DESIGN_FILES, DESIGNS, ROOT, run_cli
 
-
 #: Example designs that build but fail a check on purpose (the seeds' worked examples were set
 #: for their kinematics, not their pressure angle; demo-undercut shows an undercut report).
 FAILING_DESIGNS = {

@@ -3,6 +3,7 @@ answers. Textbooks round ω and intermediate values: comparisons allow about 0.3
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import numpy as np
@@ -152,8 +153,8 @@ def test_offset_lowers_the_rise_pressure_angle_and_raises_the_return() -> None:
     angles = [_rise_and_return_pressure(_with(text, **{"offset: 10": f"offset: {e}"}))
               for e in (0, 5, 10)]
     rises, returns = zip(*angles, strict=True)
-    assert all(a > b for a, b in zip(rises, rises[1:], strict=False))
-    assert all(a < b for a, b in zip(returns, returns[1:], strict=False))
+    assert all(a > b for a, b in itertools.pairwise(rises))
+    assert all(a < b for a, b in itertools.pairwise(returns))
     # on a clockwise cam the same offset acts the other way round (SPEC §2)
     cw = [_rise_and_return_pressure(_with(text, **{"offset: 10": f"offset: {e}",
                                                    "rotation: ccw": "rotation: cw"}))

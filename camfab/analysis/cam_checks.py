@@ -14,9 +14,9 @@ import numpy as np
 from camfab.analysis.findings import Finding
 from camfab.analysis.kinematics import degrees
 from camfab.analysis.ranges import Range, merge, ranges_deg
+from camfab.arrays import Array, Mask
 from camfab.design import Design
 from camfab.geometry.disc_geometry import DiscGeometry
-from camfab.motion.law import Array
 
 
 @dataclass(frozen=True)
@@ -28,7 +28,7 @@ class Extreme:
     at_deg: float | None
 
 
-def _extreme(theta: Array, values: Array, mask: Array | None = None, *,
+def _extreme(theta: Array, values: Array, mask: Mask | None = None, *,
              largest: bool) -> Extreme:
     picked = np.isfinite(values) if mask is None else (mask & np.isfinite(values))
     if not picked.any():

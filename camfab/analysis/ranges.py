@@ -9,12 +9,12 @@ from __future__ import annotations
 import numpy as np
 
 from camfab.analysis.kinematics import degrees
-from camfab.motion.law import Array
+from camfab.arrays import Array, Mask
 
 Range = tuple[float, float]
 
 
-def ranges_deg(theta: Array, mask: Array) -> tuple[Range, ...]:
+def ranges_deg(theta: Array, mask: Mask) -> tuple[Range, ...]:
     """The runs of *mask* along *theta* (rad, non-decreasing over one turn) as degree ranges."""
     mask = np.asarray(mask, dtype=bool)
     if not mask.any():

@@ -14,6 +14,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from camfab.arrays import Array
+
 if TYPE_CHECKING:
     from camfab.pipeline import Analysis
 
@@ -22,7 +24,7 @@ def motion_table(analysis: Analysis) -> tuple[list[str], np.ndarray]:
     """Column names and the (rows, columns) array of values (NaN where not computed)."""
     design, units = analysis.design, analysis.units
     count = round(2 * math.pi / design.table_step)
-    theta = np.arange(count) * (2 * math.pi / count)
+    theta: Array = (2 * math.pi / count) * np.arange(count, dtype=np.float64)
     s = analysis.program.evaluate(theta)
     omega = design.cam.omega
     columns = ["cam_angle_deg", units.displacement_column]

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from camfab.motion.law import Array
+from camfab.arrays import Array
 
 
 def rotate(points: Array, angle: Array | float) -> Array:

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from camfab.arrays import Array
 from camfab.geometry.curves import (
     CurvePoints,
     curve_from_frame,
@@ -26,7 +27,6 @@ from camfab.geometry.curves import (
     unit,
 )
 from camfab.geometry.follower import FollowerGeometry
-from camfab.motion.law import Array
 
 
 @dataclass(frozen=True)

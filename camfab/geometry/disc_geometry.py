@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING, Literal
 
 import numpy as np
 
+from camfab.arrays import Array, Index, Mask
 from camfab.geometry.curves import CurvePoints, signed_angle
 from camfab.geometry.disc import DiscCam
 from camfab.geometry.follower import FollowerGeometry
@@ -24,7 +25,6 @@ from camfab.geometry.undercut import (
     outside_circle_sweep,
     trim_loops,
 )
-from camfab.motion.law import Array
 from camfab.motion.program import MotionProgram
 
 if TYPE_CHECKING:
@@ -44,7 +44,7 @@ class DenseCurves:
     """Exact values on a fine grid, segment by segment, both ends of each segment included (the
     one-sided values at a joint). ``face_contact`` is None unless the follower is flat."""
 
-    segment: Array
+    segment: Index
     theta: Array
     motion: Array
     pitch: CurvePoints
@@ -112,7 +112,7 @@ class DiscGeometry:
     pitch: Sampled
     working: Sampled
     profile: Profile
-    folds: Array
+    folds: Mask
     self_intersecting: bool
     cut_theta: Array
     lift: LiftCheck
@@ -185,7 +185,7 @@ def _keep_test(cam: DiscCam, pitch: Sampled, dense: DenseCurves, slack: float): 
     return outside_circle_sweep(pitch.xy, cam.follower.radius, slack)
 
 
-def folds(cam: DiscCam, dense: DenseCurves) -> Array:
+def folds(cam: DiscCam, dense: DenseCurves) -> Mask:
     """Where the envelope folds over: a convex pitch radius below the roller or mushroom radius,
     or a flat face's radius ρ = Rb + s + s″ (and its oscillating counterpart) at or below 0."""
     if cam.follower.flat:
@@ -198,7 +198,7 @@ def lift_check(cam: DiscCam, program: MotionProgram, profile: Profile,
                step: float = VERIFY_STEP) -> LiftCheck:
     """Run the follower over *profile* and compare its lift with *program*'s."""
     count = round(2 * math.pi / step)
-    theta = np.arange(count) * (2 * math.pi / count)
+    theta: Array = (2 * math.pi / count) * np.arange(count, dtype=np.float64)
     position = simulate(profile, cam.follower, theta, cam.sigma)
     error = position - cam.rest - program.evaluate(theta)[0]
     scale = cam.follower.arm_length if cam.follower.oscillating else 1.0

@@ -13,8 +13,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from camfab.arrays import Array, Index
 from camfab.geometry.curves import cross
-from camfab.motion.law import Array
 
 #: Two consecutive vertices closer than this (mm) are one point: far below any tolerance and far
 #: above the rounding of coordinates of cams up to metres in size.
@@ -26,7 +26,7 @@ class Arcs:
     """The arc edges of a profile: their edge index, centre, radius, start angle and sweep (rad,
     counter-clockwise positive)."""
 
-    index: Array
+    index: Index
     centre: Array
     radius: Array
     start_angle: Array
@@ -81,7 +81,8 @@ class Profile:
         sweep = 4.0 * np.arctan(bulge)
         chord = end - start
         half = 0.5 * np.hypot(chord[:, 0], chord[:, 1])
-        left = np.stack((-chord[:, 1], chord[:, 0]), axis=-1) / np.maximum(2 * half, 1e-300)[:, None]
+        left = np.stack((-chord[:, 1], chord[:, 0]), axis=-1)
+        left /= np.maximum(2 * half, 1e-300)[:, None]
         centre = 0.5 * (start + end) + (half / np.tan(sweep / 2))[:, None] * left
         radius = half / np.abs(np.sin(sweep / 2))
         rel = start - centre
@@ -99,7 +100,7 @@ class Profile:
             k = arc_at.get(i)
             if k is None:
                 continue
-            step = 2.0 * math.acos(max(-1.0, 1.0 - tolerance / arcs.radius[k]))
+            step = 2.0 * math.acos(max(-1.0, 1.0 - tolerance / float(arcs.radius[k])))
             count = max(1, math.ceil(abs(arcs.sweep[k]) / step))
             angles = arcs.start_angle[k] + np.linspace(0.0, arcs.sweep[k], count + 1)[1:-1]
             pieces.append(arcs.centre[k] + arcs.radius[k] * np.stack((np.cos(angles),

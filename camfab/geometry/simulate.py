@@ -23,10 +23,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from camfab.geometry.curves import cross, perp
+from camfab.arrays import Array, Index, Mask
+from camfab.geometry.curves import perp
 from camfab.geometry.follower import FollowerGeometry
 from camfab.geometry.profile import Profile
-from camfab.motion.law import Array
 
 TWO_PI = 2.0 * math.pi
 
@@ -64,7 +64,7 @@ class _Circles:
         return (np.where(big[:, None], self.centre, chord_mid),
                 np.where(big, self.radius, reach) + _SLACK)
 
-    def in_span(self, angle: Array, which: Array) -> Array:
+    def in_span(self, angle: Array, which: Index) -> Mask:
         """True where direction *angle* (rad, cam frame) from a centre lies within the piece."""
         sweep = self.sweep[which]
         rel = np.where(sweep >= 0, angle - self.start[which], self.start[which] - angle)
@@ -84,7 +84,7 @@ def _normal_angles(profile: Profile) -> tuple[Array, Array]:
     return start, end
 
 
-def _corners(profile: Profile) -> tuple[Array, Array, Array]:
+def _corners(profile: Profile) -> tuple[Index, Array, Array]:
     """Convex corners: vertex index, the outward normal angle arriving, and the cone's angle."""
     start, end = _normal_angles(profile)
     arriving = np.roll(end, 1)
@@ -134,17 +134,17 @@ class _Grid:
         self.sin = np.sin(sigma * theta)
         self.best = np.full(theta.size, -np.inf)
 
-    def frame(self, points: Array, k: Array) -> Array:
+    def frame(self, points: Array, k: Index) -> Array:
         """Cam-frame *points* seen in the frame at the angles of index *k*."""
         c, s = self.cos[k], self.sin[k]
         return np.stack((c * points[:, 0] - s * points[:, 1],
                          s * points[:, 0] + c * points[:, 1]), axis=-1)
 
-    def to_cam_angle(self, angle: Array, k: Array) -> Array:
+    def to_cam_angle(self, angle: Array, k: Index) -> Array:
         """A frame direction angle as the cam-frame angle at the angles of index *k*."""
         return angle - self.sigma * self.theta[k]
 
-    def window(self, centre: Array, lo_tau: Array, hi_tau: Array) -> Iterator[tuple[Array, Array]]:
+    def window(self, centre: Array, lo_tau: Array, hi_tau: Array) -> Iterator[tuple[Index, Index]]:
         """(piece, angle index) pairs, in chunks, for pieces whose *centre* must be seen at frame
         angles [lo_tau, hi_tau]."""
         alpha = np.arctan2(centre[:, 1], centre[:, 0])
@@ -165,11 +165,11 @@ class _Grid:
         for at in range(0, piece.size, _CHUNK):
             yield piece[at:at + _CHUNK], index[at:at + _CHUNK]
 
-    def turned(self, lo: Array, hi: Array) -> Iterator[tuple[Array, Array]]:
+    def turned(self, lo: Array, hi: Array) -> Iterator[tuple[Index, Index]]:
         """(piece, angle index) pairs for pieces active while σθ lies in [lo, hi] (rad)."""
         return self.window(np.tile([1.0, 0.0], (len(lo), 1)), lo - _SLACK, hi + _SLACK)
 
-    def keep(self, k: Array, value: Array) -> None:
+    def keep(self, k: Index, value: Array) -> None:
         ok = np.isfinite(value)
         np.maximum.at(self.best, k[ok], value[ok])
 

@@ -15,10 +15,10 @@ from collections.abc import Callable
 import numpy as np
 import shapely
 
-from camfab.motion.law import Array
+from camfab.arrays import Array, Mask
 
 #: A predicate over (K, 2) points: True where the follower never enters.
-KeepTest = Callable[[Array], Array]
+KeepTest = Callable[[Array], Mask]
 
 
 def is_simple(xy: Array) -> bool:
@@ -57,7 +57,7 @@ def outside_circle_sweep(pitch_xy: Array, radius: float, slack: float) -> KeepTe
         polygon = shapely.make_valid(polygon)
     boundary = shapely.LinearRing(pitch_xy)
 
-    def keep(points: Array) -> Array:
+    def keep(points: Array) -> Mask:
         pts = shapely.points(points)
         inside = shapely.contains(polygon, pts)
         return inside & (shapely.distance(boundary, pts) >= radius - slack)
@@ -69,13 +69,13 @@ def below_face_lines(normals: Array, heights: Array, slack: float) -> KeepTest:
     """Points on the cam side of every face line ``x·n ≤ h`` (flat faces), *normals* (K, 2) and
     *heights* (K,) in the cam frame."""
 
-    def keep(points: Array) -> Array:
+    def keep(points: Array) -> Mask:
         return np.all(points @ normals.T <= heights[None, :] + slack, axis=1)
 
     return keep
 
 
-def cut_away(raw_xy: Array, profile_xy: Array, tolerance: float) -> Array:
+def cut_away(raw_xy: Array, profile_xy: Array, tolerance: float) -> Mask:
     """True for each raw envelope point farther than *tolerance* from the trimmed profile."""
     ring = shapely.LinearRing(profile_xy)
     return shapely.distance(ring, shapely.points(raw_xy)) > tolerance
