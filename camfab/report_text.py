@@ -40,12 +40,25 @@ def print_summary(analysis: Analysis) -> None:
         table.add_column(name)
     for order, label in ((1, "v"), (2, "a"), (3, "j")):
         table.add_column(f"max {label} ({units.unit(order, with_speed)})", justify="right")
+    numbers = analysis.numbers
+    if numbers is not None:
+        table.add_column("max φ (deg)", justify="right")
     for stats in analysis.segments:
         peaks = stats.max_si if stats.max_si is not None else stats.max_per_rad
+        extra = [] if numbers is None else [_num(numbers.segment_pressure[stats.index].value)]
         table.add_row(str(stats.index), stats.kind, stats.law,
                       f"{stats.start_deg:g}–{stats.end_deg:g}", f"{stats.lift:.6g}",
-                      *(_num(v) for v in peaks))
+                      *(_num(v) for v in peaks), *extra)
     console.print(table)
+    geom = analysis.geometry
+    if geom is not None and numbers is not None:
+        convex = numbers.pitch_min_convex.value
+        console.print(
+            f"cam: base radius {_num(design.cam.base_radius)} mm, prime radius "
+            f"{_num(geom.cam.prime_radius)} mm, largest radius {_num(numbers.max_radius_mm)} mm; "
+            f"pitch curve's smallest convex radius {_num(convex)} mm; profile of "
+            f"{len(geom.profile.vertices)} points within {geom.tolerance:.2g} mm; the follower "
+            f"run over it strays {geom.lift.max_mm:.2g} mm from the design")
     for finding in analysis.findings:
         mark = "[green]✔[/green]" if finding.ok else (
             "[red]✖[/red]" if finding.severity == "error" else "[yellow]![/yellow]")

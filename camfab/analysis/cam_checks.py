@@ -157,12 +157,17 @@ def undercut_finding(design: Design, geom: DiscGeometry, numbers: CamNumbers) ->
                        f"is larger than the {shape} radius {_fmt(radius)} mm", value, radius,
                        "mm")
     what = "roller" if fol.type == "roller" else "mushroom face"
-    need = (f"a {what} radius below {_fmt(value)} mm, a larger base radius or a longer rise or "
-            f"return avoids it" if value is not None else "a larger base radius avoids it")
-    return Finding("undercut", False, "error",
-                   f"the {what} radius {_fmt(radius)} mm exceeds the pitch curve's convex radius "
-                   f"of curvature (down to {_fmt(value or 0.0)} mm) at {_where(ranges)}: the "
-                   f"envelope folds over and is cut away; {motion}; {need}",
+    if geom.folds.any() and value is not None:
+        cause = (f"the {what} radius {_fmt(radius)} mm exceeds the pitch curve's convex radius "
+                 f"of curvature (down to {_fmt(value)} mm) at {_where(ranges)}: the envelope "
+                 f"folds over and is cut away")
+        need = (f"a {what} radius below {_fmt(value)} mm, a larger base radius or a longer rise "
+                f"or return avoids it")
+    else:
+        cause = (f"the {what}'s envelope crosses itself at {_where(ranges)}: the {what} cannot "
+                 f"reach into a sharp hollow of the pitch curve (a velocity step makes one)")
+        need = "a motion law without a velocity step or a smaller radius avoids it"
+    return Finding("undercut", False, "error", f"{cause}; {motion}; {need}",
                    value, radius, "mm", ranges)
 
 
