@@ -14,6 +14,7 @@ import statistics
 import sys
 import time
 from collections.abc import Callable
+from functools import partial
 from pathlib import Path
 from typing import Any
 
@@ -43,16 +44,17 @@ def main() -> None:
             continue
         cam, program = G.disc_cam(design), design.program
         dense = G.dense_curves(cam, program)
-        tol = G.segment_tolerances(dense, design.manufacturing.tolerance, len(program.segments))
+        tol = G.segment_tolerances(cam, dense, design.manufacturing.tolerance,
+                                   len(program.segments))
         working = G.sample_closed(cam, program, "working", tol)
         profile = G.Profile.from_points(working.xy).ccw()
         print(f"{path.stem:28s} "
-              f"{median_ms(lambda: G.dense_curves(cam, program), repeats):6.2f} "
-              f"{median_ms(lambda: G.sample_closed(cam, program, 'pitch', tol), repeats):6.2f} "
-              f"{median_ms(lambda: G.sample_closed(cam, program, 'working', tol), repeats):8.2f} "
+              f"{median_ms(partial(G.dense_curves, cam, program), repeats):6.2f} "
+              f"{median_ms(partial(G.sample_closed, cam, program, 'pitch', tol), repeats):6.2f} "
+              f"{median_ms(partial(G.sample_closed, cam, program, 'working', tol), repeats):8.2f} "
               f"{len(working.xy):7d} "
-              f"{median_ms(lambda: G.lift_check(cam, program, profile), repeats):9.2f} "
-              f"{median_ms(lambda: G.disc_geometry(design), repeats):6.2f}")
+              f"{median_ms(partial(G.lift_check, cam, program, profile), repeats):9.2f} "
+              f"{median_ms(partial(G.disc_geometry, design), repeats):6.2f}")
 
     text = (ROOT / "designs" / "seed-poly-345.yaml").read_text()
     print("\nseed-poly-345 against the tolerance")
@@ -61,9 +63,9 @@ def main() -> None:
         design = design_from_text(text + f"manufacturing: {{tolerance: {tolerance}}}\n")
         cam, program = G.disc_cam(design), design.program
         dense = G.dense_curves(cam, program)
-        tol = G.segment_tolerances(dense, tolerance, len(program.segments))
+        tol = G.segment_tolerances(cam, dense, tolerance, len(program.segments))
         geom = G.disc_geometry(design)
-        ms = median_ms(lambda: G.sample_closed(cam, program, "working", tol), repeats)
+        ms = median_ms(partial(G.sample_closed, cam, program, "working", tol), repeats)
         print(f"{tolerance:12g} {len(geom.profile.vertices):7d} {ms:10.2f} "
               f"{geom.lift.max_mm:14.2e}")
 

@@ -55,6 +55,7 @@ def check_rules(design: Design) -> None:
     program = _check_motion(design)
     _check_cam_fit(design, program.max_lift)
     _check_oscillating(design, program.max_lift)
+    _check_swinging_face(design, program)
     _check_other(design)
 
 
@@ -192,6 +193,30 @@ def _check_oscillating(design: Design, max_swing: float) -> None:
     if psi0 + max_swing >= math.pi:
         fail(("follower", "arm_length"), f"the arm starts at {math.degrees(psi0):.4g}° from the "
              f"line of centres and swings {math.degrees(max_swing):.4g}°: it would pass 180°")
+
+
+#: An oscillating flat face touches the cam at l = a·cos Ψ/(1 + σψ′) from the pivot (THEORY §B):
+#: the face must turn slower than the cam, 1 + σψ′ above this, or contact runs off toward infinity.
+MIN_FACE_TURN_MARGIN = 0.05
+
+
+def _check_swinging_face(design: Design, program: MotionProgram) -> None:
+    import numpy as np
+
+    fol = design.follower
+    if not (fol.oscillating and fol.type == "flat" and design.cam.type == "disc"):
+        return
+    theta = np.linspace(0.0, 2 * math.pi, 7201)
+    sign = design.cam.sigma * (1 if fol.pivot_side == "right" else -1)
+    margin = 1.0 + sign * program.evaluate(theta)[1]
+    worst = int(np.argmin(margin))
+    if margin[worst] < MIN_FACE_TURN_MARGIN:
+        index = next(seg.index for seg in reversed(program.segments)
+                     if seg.start <= theta[worst] % (2 * math.pi))
+        fail(("motion", index), f"an oscillating flat face must swing slower than the cam "
+             f"turns: 1 + σψ′ falls to {margin[worst]:.3g} at {math.degrees(theta[worst]):.4g}° "
+             f"(at least {MIN_FACE_TURN_MARGIN:g}), so the contact runs off the face; spread "
+             f"the swing over a larger angle", show_got=False)
 
 
 def _check_other(design: Design) -> None:

@@ -212,13 +212,22 @@ def disc_cam(design: Design) -> DiscCam:
     return DiscCam(FollowerGeometry.from_design(design), base, design.cam.sigma)
 
 
-def segment_tolerances(dense: DenseCurves, tolerance: float, count: int) -> Array:
-    """The chord tolerance of each segment (mm): the sampling share of *tolerance*, times the
-    cosine of the segment's largest pressure angle. A profile that strays δ along its normal
-    moves the follower δ/cos φ along its path, so this keeps the lift error within the share."""
-    worst = np.zeros(count)
-    np.maximum.at(worst, dense.segment, np.abs(dense.pressure_angle))
-    return tolerance * SAMPLING_SHARE * np.cos(np.minimum(worst, math.radians(80.0)))
+def segment_tolerances(cam: DiscCam, dense: DenseCurves, tolerance: float,
+                       count: int) -> Array:
+    """The chord tolerance of each segment (mm): the sampling share of *tolerance*, scaled so the
+    follower's lift error stays within that share.
+
+    A profile that strays δ along its normal moves a trace point δ/cos φ along its path. An
+    oscillating flat face turns by δ/l about its pivot (l: the contact's distance along the face),
+    which moves the arm's trace point δ·L/l.
+    """
+    factor = np.cos(np.minimum(np.abs(dense.pressure_angle), math.radians(80.0)))
+    fol = cam.follower
+    if fol.flat and fol.oscillating and dense.face_contact is not None:
+        factor = np.minimum(1.0, np.abs(dense.face_contact) / fol.arm_length)
+    worst = np.ones(count)
+    np.minimum.at(worst, dense.segment, factor)
+    return tolerance * SAMPLING_SHARE * np.maximum(worst, 0.05)
 
 
 def disc_geometry(design: Design) -> DiscGeometry:
@@ -226,7 +235,7 @@ def disc_geometry(design: Design) -> DiscGeometry:
     cam = disc_cam(design)
     program = design.program
     dense = dense_curves(cam, program)
-    tolerances = segment_tolerances(dense, design.manufacturing.tolerance,
+    tolerances = segment_tolerances(cam, dense, design.manufacturing.tolerance,
                                     len(program.segments))
     tolerance = float(tolerances.min())
     pitch = sample_closed(cam, program, "pitch", tolerances)
