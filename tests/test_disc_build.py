@@ -9,6 +9,8 @@ import math
 import numpy as np
 import pytest
 import shapely
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 from scipy.optimize import brentq
 
 from camfab.design import design_from_text, load_design
@@ -187,3 +189,98 @@ def test_simulated_oscillating_followers_on_an_eccentric(as_arcs: bool, sigma: i
 
         assert roller[k] == pytest.approx(brentq(gap, 0.0, math.pi / 2), abs=tol)
         assert face[k] == pytest.approx(brentq(clearance, 0.0, math.pi / 2), abs=tol)
+
+
+def test_velocity_steps_give_a_rolled_corner_and_a_trimmed_hollow() -> None:
+    """Uniform velocity steps the velocity at both ends of the rise: at 0° the pitch curve has a
+    convex corner, which the roller rolls over (an arc of the roller radius on the cam, no lift
+    error); at 120° a hollow the roller cannot reach into, which is trimmed and reported."""
+    text = (DESIGNS / "seed-10-4.yaml").read_text().replace("law: harmonic", "law: linear")
+    analysis = analyse(design_from_text(text))
+    geom = analysis.geometry
+    assert geom is not None
+    finding = next(f for f in analysis.findings if f.id == "undercut")
+    assert not finding.ok and "velocity step" in finding.message
+    (start, end), = finding.ranges_deg
+    assert start < 120.0 < end
+    error = np.abs(geom.lift.error_mm)
+    near = lambda deg: np.abs(np.degrees(geom.lift.theta) - deg) < 5  # noqa: E731
+    assert error[near(0.0) | near(360.0)].max() <= 1e-3
+    assert error[near(120.0)].max() > 0.01
+    # the corner arc: profile points within the roller radius of the pitch corner at 0°
+    corner = geom.cam.pitch(np.zeros(1), analysis.program.evaluate(np.zeros(1))).xy[0]
+    on_arc = np.abs(np.hypot(*(geom.profile.vertices - corner).T) - 7.0) < 1e-9
+    assert on_arc.sum() >= 5
+
+
+def test_ranges_through_zero_are_joined() -> None:
+    from camfab.analysis.ranges import merge, ranges_deg
+
+    theta = np.radians(np.arange(360.0))
+    mask = (theta < np.radians(10)) | (theta > np.radians(350)) | (np.abs(theta - 2) < 0.05)
+    assert ranges_deg(theta, mask) == ((112.0, 117.0), (351.0, 9.0))
+    assert merge([(350.0, 10.0), (5.0, 20.0), (100.0, 120.0), (119.0, 130.0)]) == (
+        (100.0, 130.0), (350.0, 20.0))
+
+
+# ---- property: any buildable disc design gets a verified profile or a reported undercut ------
+
+LAWS = ["uniform-acceleration", "harmonic", "cycloidal", "polynomial-345", "polynomial-4567",
+        "modified-trapezoid", "modified-sine", "modified-uniform-velocity", "polynomial-23"]
+
+
+@st.composite
+def disc_designs(draw):  # type: ignore[no-untyped-def]
+    contact = draw(st.sampled_from(["knife", "roller", "flat", "mushroom"]))
+    oscillating = draw(st.booleans())
+    rb = draw(st.floats(5.0, 80.0))
+    fol: dict = {"type": contact, "motion": "oscillating" if oscillating else "translating"}
+    radius = draw(st.floats(1.0, 30.0))
+    if contact == "roller":
+        fol["roller_radius"] = radius
+    if contact == "mushroom":
+        fol["face_radius"] = radius
+    rp = rb + (radius if contact in ("roller", "mushroom") else 0.0)
+    if oscillating:
+        a = draw(st.floats(rp * 1.1 + 1.0, rp * 4.0 + 10.0))
+        fol["pivot_distance"] = a
+        fol["pivot_side"] = draw(st.sampled_from(["left", "right"]))
+        if contact == "flat":
+            fol["arm_length"] = draw(st.floats(10.0, 100.0))
+            fol["face_offset"] = draw(st.floats(-0.4 * rb, 0.4 * (a - rb)))
+        else:
+            fol["arm_length"] = draw(st.floats(max(a - rp + 0.5, 1.0), a + rp - 0.5))
+        lift = draw(st.floats(2.0, 25.0))
+    else:
+        if contact != "flat":
+            fol["offset"] = draw(st.floats(-0.8 * rb, 0.8 * rb))
+        lift = draw(st.floats(1.0, 1.5 * rb))
+    angles = draw(st.lists(st.floats(20.0, 200.0), min_size=4, max_size=4))
+    angles = [x * 360.0 / sum(angles) for x in angles]
+    motion = [{"rise": {"angle": angles[0], "lift": lift, "law": draw(st.sampled_from(LAWS))}},
+              {"dwell": {"angle": angles[1]}},
+              {"return": {"angle": angles[2], "law": draw(st.sampled_from(LAWS))}},
+              {"dwell": {"angle": angles[3]}}]
+    return {"name": "random", "follower": fol, "motion": motion,
+            "cam": {"type": "disc", "base_radius": rb,
+                    "rotation": draw(st.sampled_from(["ccw", "cw"]))}}
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(disc_designs())
+def test_random_disc_designs_are_verified_or_report_their_undercut(data: dict) -> None:
+    from camfab.design import design_from_mapping
+    from camfab.errors import CamfabError
+
+    try:
+        design = design_from_mapping(data)
+    except CamfabError:
+        return  # a design the rules refuse (a clear message, tested elsewhere)
+    analysis = analyse(design)
+    geom = analysis.geometry
+    assert geom is not None
+    assert shapely.LinearRing(geom.profile.vertices).is_simple
+    undercut = next(f for f in analysis.findings if f.id == "undercut")
+    assert undercut.ok == (not geom.undercut)
+    if not geom.undercut:
+        assert geom.lift.max_mm <= design.manufacturing.tolerance

@@ -15,14 +15,18 @@ Range = tuple[float, float]
 
 
 def ranges_deg(theta: Array, mask: Mask) -> tuple[Range, ...]:
-    """The runs of *mask* along *theta* (rad, non-decreasing over one turn) as degree ranges."""
+    """The runs of *mask* along *theta* (rad, non-decreasing over one turn) as degree ranges; a run
+    at the end of the grid and one at its start are one range through 0°."""
     mask = np.asarray(mask, dtype=bool)
     if not mask.any():
         return ()
     edges = np.flatnonzero(np.diff(np.concatenate(([0], mask.astype(np.int8), [0]))))
     runs = [(float(theta[a]), float(theta[b - 1])) for a, b in zip(edges[::2], edges[1::2],
                                                                      strict=True)]
-    return merge([(degrees(a), degrees(b)) for a, b in runs])
+    out = [(degrees(a), degrees(b)) for a, b in runs]
+    if mask[0] and mask[-1] and len(out) > 1:  # the grid covers the turn: a run through 0°
+        out[-1] = (out[-1][0], 360.0)
+    return merge(out)
 
 
 def merge(ranges: list[Range]) -> tuple[Range, ...]:
