@@ -33,8 +33,8 @@ TWO_PI = 2.0 * math.pi
 #: Pairs evaluated at once; bounds the memory of a simulation to some tens of megabytes.
 _CHUNK = 400_000
 
-#: Angular slack (rad) on spans and windows, so contact exactly at a piece's end is not lost to
-#: rounding.
+#: Slack on spans and windows (rad) and on the fraction along an edge, so contact exactly at a
+#: piece's end is not lost to rounding (a knife has no corner caps to catch it).
 _SLACK = 1e-9
 
 #: The first, coarse pass of an oscillating flat face (it finds the range of swing): its cam-angle
@@ -243,7 +243,7 @@ def _sliding_circle(off: _Offset, e: float, grid: _Grid) -> None:
         with np.errstate(divide="ignore", invalid="ignore"):
             t = (e - a[:, 0]) / (b[:, 0] - a[:, 0])
         y = a[:, 1] + t * (b[:, 1] - a[:, 1])
-        grid.keep(k, np.where((t >= 0.0) & (t <= 1.0), y, -np.inf))
+        grid.keep(k, np.where((t >= -_SLACK) & (t <= 1.0 + _SLACK), y, -np.inf))
 
 
 # -- oscillating knife, roller, mushroom: the centre on the arm circle ------------------------
@@ -303,7 +303,7 @@ def _swinging_circle(off: _Offset, fol: FollowerGeometry, grid: _Grid) -> None:
                 root = np.sqrt(qb * qb - 4 * qa * qc)
                 for t in ((-qb + root) / (2 * qa), (-qb - root) / (2 * qa)):
                     psi = _arm_angle(a + t[:, None] * d, fol)
-                    grid.keep(k, np.where((t >= 0.0) & (t <= 1.0), psi, -np.inf))
+                    grid.keep(k, np.where((t >= -_SLACK) & (t <= 1.0 + _SLACK), psi, -np.inf))
 
 
 # -- flat faces: the support of the cam in the face's direction --------------------------------
