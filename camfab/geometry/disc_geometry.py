@@ -6,7 +6,9 @@ really gets on it.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
+from functools import partial
 from typing import TYPE_CHECKING, Literal
 
 import numpy as np
@@ -19,13 +21,14 @@ from camfab.geometry.profile import MERGE_DISTANCE, Profile
 from camfab.geometry.sampling import SAMPLING_SHARE, arc_points, sample_curve
 from camfab.geometry.simulate import simulate
 from camfab.geometry.undercut import (
+    KeepTest,
     below_face_lines,
     cut_away,
     is_simple,
     outside_circle_sweep,
     trim_loops,
 )
-from camfab.motion.program import MotionProgram
+from camfab.motion.program import MotionProgram, ProgramSegment
 
 if TYPE_CHECKING:
     from camfab.design import Design
@@ -151,11 +154,8 @@ def sample_closed(cam: DiscCam, program: MotionProgram, curve: Literal["pitch", 
     segments = program.segments
     tolerances = np.broadcast_to(np.asarray(tolerance, dtype=np.float64), (len(segments),))
     for i, seg in enumerate(segments):
-
-        def at(t: Array, seg=seg) -> CurvePoints:  # type: ignore[no-untyped-def]
-            return evaluator(seg.start + t, seg.evaluate_local(t))
-
-        t, xy = sample_curve(at, seg.span, float(tolerances[i]))
+        t, xy = sample_curve(partial(_on_segment, evaluator, seg), seg.span,
+                             float(tolerances[i]))
         thetas.append(seg.start + t)
         points.append(xy)
         nxt = segments[(i + 1) % len(segments)]
@@ -177,7 +177,14 @@ def sample_closed(cam: DiscCam, program: MotionProgram, curve: Literal["pitch", 
     return Sampled(theta[keep], xy[keep])
 
 
-def _keep_test(cam: DiscCam, pitch: Sampled, dense: DenseCurves, slack: float):  # type: ignore[no-untyped-def]
+def _on_segment(evaluator: Callable[[Array, Array], CurvePoints], seg: ProgramSegment,
+                t: Array) -> CurvePoints:
+    """A curve at *t* radians into segment *seg*."""
+    return evaluator(seg.start + t, seg.evaluate_local(t))
+
+
+def _keep_test(cam: DiscCam, pitch: Sampled, dense: DenseCurves, slack: float) -> KeepTest:
+    """Where the follower never enters: outside the sweep of its circle, or below every face."""
     if cam.follower.flat:
         lines = cam.face_lines(dense.theta, dense.motion)
         normals = np.stack((np.cos(lines.beta), np.sin(lines.beta)), axis=-1)
