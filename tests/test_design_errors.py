@@ -104,6 +104,9 @@ CASES = [
      "below 90"),
     ("table-step", "  - dwell:  {angle: 100}\n", "  - dwell:  {angle: 100}\ntable_step: 7\n", 20,
      "table_step", "divide 360"),
+    ("pivot-inside-cam", "  motion: translating\n  offset: 10\n",
+     "  motion: oscillating\n  pivot_distance: 35\n  arm_length: 25\n", 13,
+     "follower.pivot_distance", "pivot must lie outside the cam"),
     ("face-swings-faster-than-cam", "  type: roller\n  motion: translating\n  offset: 10\n"
      "  roller_radius: 7\n", "  type: flat\n  motion: oscillating\n  pivot_distance: 60\n"
      "  arm_length: 40\n", 18, "motion[2]", "swing slower than the cam"),  # 40° back in 80°

@@ -193,6 +193,16 @@ def _check_oscillating(design: Design, max_swing: float) -> None:
     if psi0 + max_swing >= math.pi:
         fail(("follower", "arm_length"), f"the arm starts at {math.degrees(psi0):.4g}° from the "
              f"line of centres and swings {math.degrees(max_swing):.4g}°: it would pass 180°")
+    # the cam's largest radius: the face line's farthest distance from the cam centre, or the
+    # trace point's farthest distance less the roller radius; the pivot must lie beyond it
+    top = psi0 + max_swing
+    if fol.type == "flat":
+        reach = a * math.sin(min(top, math.pi / 2)) - fol.face_offset
+    else:
+        reach = math.sqrt(a * a + arm * arm - 2 * a * arm * math.cos(top)) - fol.trace_radius
+    if reach >= a:
+        fail(("follower", "pivot_distance"), f"the cam would reach {_mm(reach)} from its centre, "
+             f"past the pivot: the pivot must lie outside the cam", show_got=True)
 
 
 #: An oscillating flat face touches the cam at l = a·cos Ψ/(1 + σψ′) from the pivot (THEORY §B):
