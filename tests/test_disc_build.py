@@ -147,6 +147,19 @@ def eccentric(as_arcs: bool) -> Profile:
 THETA = np.linspace(0, 2 * math.pi, 720, endpoint=False)
 
 
+def test_profile_arcs_area_and_order() -> None:
+    prof = eccentric(as_arcs=True)
+    assert prof.signed_area == pytest.approx(math.pi * R**2, rel=1e-12)
+    arcs = prof.arcs()
+    assert np.allclose(arcs.centre, [[C, 0.0], [C, 0.0]]) and np.allclose(arcs.radius, R)
+    # the same contour clockwise: reversed, bulges negated, and ccw() restores it
+    clockwise = Profile(prof.vertices[::-1].copy(), -np.roll(prof.bulges[::-1], -1))
+    assert clockwise.signed_area == pytest.approx(-math.pi * R**2, rel=1e-12)
+    assert clockwise.ccw().signed_area == pytest.approx(math.pi * R**2, rel=1e-12)
+    fol = FollowerGeometry("roller", radius=6.0, offset=3.0)
+    assert np.allclose(simulate(clockwise, fol, THETA, 1), simulate(prof, fol, THETA, 1))
+
+
 def centre_in_frame(sigma: int) -> np.ndarray:
     return np.stack((C * np.cos(sigma * THETA), C * np.sin(sigma * THETA)), -1)
 

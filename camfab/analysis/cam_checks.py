@@ -94,6 +94,8 @@ def _fmt(value: float) -> str:
 
 
 def _where(ranges: tuple[Range, ...]) -> str:
+    if not ranges:
+        return "a point too small to resolve"
     return ", ".join(f"{_fmt(a)}°–{_fmt(b)}°" for a, b in ranges)
 
 

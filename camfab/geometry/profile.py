@@ -8,7 +8,6 @@ counter-clockwise order, in which a positive bulge is convex (the arc bulges out
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -87,25 +86,6 @@ class Profile:
         radius = half / np.abs(np.sin(sweep / 2))
         rel = start - centre
         return Arcs(index, centre, radius, np.arctan2(rel[:, 1], rel[:, 0]), sweep)
-
-    def points(self, tolerance: float) -> Array:
-        """The contour as points only, arcs flattened with chords within *tolerance* (mm)."""
-        if not self.bulges.any():
-            return self.vertices
-        arcs = self.arcs()
-        pieces = []
-        arc_at = dict(zip(arcs.index.tolist(), range(len(arcs.index)), strict=True))
-        for i, vertex in enumerate(self.vertices):
-            pieces.append(vertex[None, :])
-            k = arc_at.get(i)
-            if k is None:
-                continue
-            step = 2.0 * math.acos(max(-1.0, 1.0 - tolerance / float(arcs.radius[k])))
-            count = max(1, math.ceil(abs(arcs.sweep[k]) / step))
-            angles = arcs.start_angle[k] + np.linspace(0.0, arcs.sweep[k], count + 1)[1:-1]
-            pieces.append(arcs.centre[k] + arcs.radius[k] * np.stack((np.cos(angles),
-                                                                        np.sin(angles)), -1))
-        return np.concatenate(pieces)
 
     def radii(self) -> Array:
         """Distance of every vertex from the cam centre (mm)."""
