@@ -21,10 +21,24 @@ from camfab.motion.program import MotionProgram
 
 if TYPE_CHECKING:
     from camfab.analysis.cam_checks import CamNumbers
-    from camfab.geometry.disc_geometry import DiscGeometry
+    from camfab.geometry.disc_geometry import DiscGeometry, LiftCheck
 
 #: Every output a design may ask for, in the order files are listed.
 ALL_OUTPUTS = ("dxf", "svg", "stl", "report", "csv")
+
+
+@dataclass(frozen=True)
+class Verification:
+    """The follower run over the CUT outline read back from the written DXF.
+
+    ``deviation_mm`` is the largest distance of the exact working curve from that outline (None
+    for an undercut cam, whose outline is the trimmed one on purpose).
+    """
+
+    lift: LiftCheck
+    source: str
+    entities: int
+    deviation_mm: float | None
 
 
 @dataclass(frozen=True)
@@ -38,6 +52,7 @@ class Analysis:
     findings: list[Finding]
     geometry: DiscGeometry | None = None
     numbers: CamNumbers | None = None
+    verification: Verification | None = None
 
     @property
     def exit_code(self) -> int:
@@ -61,6 +76,29 @@ def analyse(design: Design) -> Analysis:
     numbers = cam_numbers(geometry, len(program.segments))
     findings = [*cam_findings(design, geometry, numbers), *findings]
     return Analysis(design, program, units, stats, findings, geometry, numbers)
+
+
+def verify_exports(analysis: Analysis) -> tuple[Analysis, bytes | None]:
+    """Write the DXF in memory, read its CUT outline back and run the follower over it.
+
+    Returns the analysis with its :class:`Verification` and the DXF's bytes (None for cam types
+    without a plate outline).
+    """
+    geom = analysis.geometry
+    if geom is None:
+        return analysis, None
+    from dataclasses import replace
+
+    from camfab.export.dxf import cut_outline, read_cut_outline, render_dxf
+    from camfab.geometry.disc_geometry import lift_check
+
+    dxf = render_dxf(analysis, cut_outline(analysis))
+    outline = read_cut_outline(dxf, analysis.design.mm_per_unit)
+    lift = lift_check(geom.cam, analysis.program, outline)
+    deviation = None if geom.undercut else float(outline.distance(geom.dense.working.xy).max())
+    check = Verification(lift, f"CUT outline read back from {analysis.design.name}.dxf",
+                         len(outline.vertices), deviation)
+    return replace(analysis, verification=check), dxf
 
 
 def _report_json(analysis: Analysis) -> bytes:
@@ -88,22 +126,28 @@ class Artifacts:
 
     files: dict[str, bytes]
     not_produced: tuple[str, ...] = field(default_factory=tuple)
+    analysis: Analysis | None = None
 
 
 def render(analysis: Analysis) -> Artifacts:
-    """The bytes of every file the design asks for (all that apply by default)."""
+    """The bytes of every file the design asks for (all that apply by default), after the
+    verification of the exported outline (which the report carries)."""
     requested = analysis.design.outputs or ALL_OUTPUTS
+    analysis, dxf = verify_exports(analysis)
     files: dict[str, bytes] = {}
     missing = []
     for output in ALL_OUTPUTS:
         if output not in requested:
+            continue
+        if output == "dxf" and dxf is not None:
+            files[analysis.design.name + ".dxf"] = dxf
             continue
         if output not in RENDERERS:
             missing.append(output)
             continue
         for suffix, renderer in RENDERERS[output]:
             files[analysis.design.name + suffix] = renderer(analysis)
-    return Artifacts(files, tuple(missing))
+    return Artifacts(files, tuple(missing), analysis)
 
 
 def write_files(folder: Path, files: Mapping[str, bytes]) -> list[Path]:
@@ -160,4 +204,4 @@ def build(path: str | Path, out_dir: Path | None = None) -> BuildResult:
     artifacts = render(analysis)
     folder = output_folder(design, out_dir)
     written = write_files(folder, artifacts.files)
-    return BuildResult(analysis, folder, written, artifacts.not_produced)
+    return BuildResult(artifacts.analysis or analysis, folder, written, artifacts.not_produced)

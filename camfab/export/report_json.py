@@ -93,14 +93,19 @@ def _geometry(analysis: Analysis) -> dict[str, Any]:
 
 
 def _verification(analysis: Analysis) -> dict[str, Any]:
-    geom = analysis.geometry
-    if geom is None:
-        return {"max_lift_error_mm": None}
+    check, geom = analysis.verification, analysis.geometry
+    if check is None:
+        if geom is None:
+            return {"max_lift_error_mm": None}
+        return {"max_lift_error_mm": geom.lift.max_mm, "max_lift_error_at_deg": geom.lift.at_deg,
+                "checked_on": "sampled profile"}
     return {
-        "max_lift_error_mm": geom.lift.max_mm,
-        "max_lift_error_at_deg": geom.lift.at_deg,
-        "checked_on": "sampled profile",
-        "angle_step_deg": math.degrees(float(geom.lift.theta[1] - geom.lift.theta[0])),
+        "max_lift_error_mm": check.lift.max_mm,
+        "max_lift_error_at_deg": check.lift.at_deg,
+        "checked_on": check.source,
+        "angle_step_deg": math.degrees(float(check.lift.theta[1] - check.lift.theta[0])),
+        "cut_outline_entities": check.entities,
+        "cut_outline_max_deviation_mm": check.deviation_mm,
     }
 
 

@@ -87,6 +87,35 @@ class Profile:
         rel = start - centre
         return Arcs(index, centre, radius, np.arctan2(rel[:, 1], rel[:, 0]), sweep)
 
+    def distance(self, points: Array) -> Array:
+        """Distance (mm) of each of (K, 2) *points* from the contour, arcs measured as arcs."""
+        v = self.vertices
+        nxt = np.roll(v, -1, axis=0)
+        line = self.bulges == 0.0
+        a, b = v[line], nxt[line]
+        d = b - a
+        rel = points[:, None, :] - a[None, :, :]
+        t = np.clip(np.einsum("kij,ij->ki", rel, d) / np.maximum(np.einsum("ij,ij->i", d, d),
+                                                                   1e-300), 0.0, 1.0)
+        foot = a[None] + t[..., None] * d[None]
+        best = np.full(len(points), np.inf)
+        if line.any():
+            best = np.min(np.hypot(*(points[:, None, :] - foot).transpose(2, 0, 1)), axis=1)
+        arcs = self.arcs()
+        if arcs.index.size:
+            rel = points[:, None, :] - arcs.centre[None]
+            radius = np.hypot(rel[..., 0], rel[..., 1])
+            angle = np.arctan2(rel[..., 1], rel[..., 0])
+            from_start = np.where(arcs.sweep > 0, angle - arcs.start_angle,
+                                  arcs.start_angle - angle)
+            inside = np.mod(from_start, 2 * np.pi) <= np.abs(arcs.sweep)
+            ends = np.minimum(
+                np.hypot(*(points[:, None, :] - v[arcs.index][None]).transpose(2, 0, 1)),
+                np.hypot(*(points[:, None, :] - nxt[arcs.index][None]).transpose(2, 0, 1)))
+            to_arc = np.where(inside, np.abs(radius - arcs.radius), ends)
+            best = np.minimum(best, to_arc.min(axis=1))
+        return best
+
     def radii(self) -> Array:
         """Distance of every vertex from the cam centre (mm)."""
         return np.hypot(self.vertices[:, 0], self.vertices[:, 1])

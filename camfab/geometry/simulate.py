@@ -72,7 +72,8 @@ class _Circles:
         """True where direction *angle* (rad, cam frame) from a centre lies within the piece."""
         sweep = self.sweep[which]
         rel = np.where(sweep >= 0, angle - self.start[which], self.start[which] - angle)
-        return np.mod(rel + _SLACK, TWO_PI) <= np.abs(sweep) + 2 * _SLACK
+        with np.errstate(invalid="ignore"):  # NaN angles (no intersection) are not in any span
+            return np.mod(rel + _SLACK, TWO_PI) <= np.abs(sweep) + 2 * _SLACK
 
 
 def _normal_angles(profile: Profile) -> tuple[Array, Array]:

@@ -1,0 +1,135 @@
+"""The DXF a build writes: structure a shop's software expects, accuracy measured with ezdxf's own
+flattening (independent of camfab's arc code), and the follower run over the outline as written."""
+
+from __future__ import annotations
+
+import io
+import json
+from pathlib import Path
+
+import ezdxf
+import numpy as np
+import pytest
+import shapely
+
+from camfab.design import design_from_text, load_design
+from camfab.pipeline import analyse, render
+
+from .conftest import DESIGN_FILES, DESIGNS, run_cli
+
+DISC = [p for p in DESIGN_FILES if load_design(p).cam.type == "disc"]
+
+
+def flattened(entity, sagitta: float) -> np.ndarray:  # type: ignore[no-untyped-def]
+    """A CUT polyline as points by ezdxf's own arcs (true circles; its Bézier paths are only
+    within 2.7e-4 of the radius, too coarse here)."""
+    vertices = [np.array(p[:2]) for p in entity.get_points("xy")]
+    points: list[tuple[float, float]] = []
+    for vertex, piece in zip(vertices, entity.virtual_entities(), strict=False):
+        if piece.dxftype() == "ARC":
+            pts = [(v.x, v.y) for v in piece.flattening(sagitta)]
+        else:
+            pts = [(piece.dxf.start.x, piece.dxf.start.y), (piece.dxf.end.x, piece.dxf.end.y)]
+        if np.hypot(*(np.array(pts[-1]) - vertex)) < np.hypot(*(np.array(pts[0]) - vertex)):
+            pts.reverse()  # an ARC runs counter-clockwise; this stretch of the polyline does not
+        points.extend(pts[:-1])
+    return np.array(points)
+
+
+def built(path: Path):  # type: ignore[no-untyped-def]
+    design = load_design(path)
+    artifacts = render(analyse(design))
+    doc = ezdxf.read(io.StringIO(artifacts.files[f"{design.name}.dxf"].decode()))
+    report = json.loads(artifacts.files[f"{design.name}-report.json"])
+    return design, artifacts, doc, report
+
+
+@pytest.mark.parametrize("path", DISC, ids=[p.stem for p in DISC])
+def test_dxf_structure_and_accuracy(path: Path) -> None:
+    design, _artifacts, doc, report = built(path)
+    assert doc.dxfversion >= "AC1015"  # R2000 or newer
+    assert doc.header["$INSUNITS"] == (4 if design.units == "mm" else 1)
+    assert len(doc.audit().errors) == 0
+    names = {layer.dxf.name for layer in doc.layers}
+    assert {"CUT", "PITCH", "BASE", "PRIME", "MARK", "NOTE"} <= names
+    msp = doc.modelspace()
+    assert len(msp.query("SPLINE")) == 0
+    cut = msp.query('*[layer=="CUT"]')
+    assert {e.dxftype() for e in cut} <= {"LWPOLYLINE", "CIRCLE", "LINE", "ARC"}
+    outlines = [e for e in cut if e.dxftype() == "LWPOLYLINE"]
+    assert all(e.closed for e in outlines)
+    # few entities: arcs, not thousands of tiny segments
+    outer = max(outlines, key=lambda e: shapely.Polygon(np.array(e.get_points("xy"))).area)
+    assert len(outer) < 120
+    # flattened by ezdxf to 1e-5 of the file unit: simple, and within the tolerance of the exact
+    # working curve
+    scale = design.mm_per_unit
+    ring = shapely.LinearRing(flattened(outer, 1e-5 / scale) * scale)
+    assert ring.is_simple
+    analysis = analyse(design)
+    geom = analysis.geometry
+    assert geom is not None
+    tolerance = design.manufacturing.tolerance
+    verification = report["verification"]
+    assert verification["checked_on"].startswith("CUT outline read back")
+    if not geom.undercut:
+        exact = shapely.points(geom.dense.working.xy)
+        assert float(np.max(shapely.distance(ring, exact))) <= tolerance
+        assert verification["max_lift_error_mm"] <= tolerance
+        assert verification["cut_outline_max_deviation_mm"] <= tolerance
+    else:
+        assert verification["max_lift_error_mm"] > tolerance  # the undercut's motion error
+
+
+def test_same_design_same_bytes() -> None:
+    design = load_design(DESIGNS / "seed-10-4.yaml")
+    first = render(analyse(design)).files["seed-10-4.dxf"]
+    second = render(analyse(design)).files["seed-10-4.dxf"]
+    assert first == second
+
+
+def test_inch_design_is_drawn_in_inches() -> None:
+    _design, _, doc, report = built(DESIGNS / "demo-inch-flat.yaml")
+    outer = doc.modelspace().query('LWPOLYLINE[layer=="CUT"]')
+    radius = max(float(np.max(np.hypot(*np.array(e.get_points("xy")).T))) for e in outer)
+    assert radius == pytest.approx(report["geometry"]["max_radius_mm"] / 25.4, abs=1e-3)
+
+
+def test_bore_with_keyway_is_one_closed_contour() -> None:
+    text = (DESIGNS / "seed-10-4.yaml").read_text().replace(
+        "  bore: 10", "  bore: 10\n  keyway: {width: 3, depth: 1.4}")
+    design = design_from_text(text)
+    doc = ezdxf.read(io.StringIO(render(analyse(design)).files["seed-10-4.dxf"].decode()))
+    contours = [flattened(e, 1e-5) for e in doc.modelspace().query('LWPOLYLINE[layer=="CUT"]')]
+    hole = min(contours, key=lambda c: shapely.Polygon(c).area)
+    polygon = shapely.Polygon(hole)
+    assert polygon.is_valid
+    # the bore's circle (r = 5) with the keyway up to r + 1.4 on +Y, 3 wide
+    assert float(hole[:, 1].max()) == pytest.approx(6.4, abs=1e-6)
+    assert float(hole[:, 1].min()) == pytest.approx(-5.0, abs=1e-4)
+    assert float(hole[hole[:, 1] > 5.5][:, 0].max()) == pytest.approx(1.5, abs=1e-9)
+    # the keyway adds the area between the bore circle and y = 6.4 over |x| ≤ 1.5
+    key_area = 3.0 * 6.4 - (1.5 * np.sqrt(25.0 - 2.25) + 25.0 * np.arcsin(0.3))
+    assert polygon.area == pytest.approx(np.pi * 25.0 + key_area, rel=1e-5)
+
+
+def test_build_writes_the_dxf(tmp_path: Path) -> None:
+    result = run_cli("build", str(DESIGNS / "seed-poly-345.yaml"), cwd=tmp_path)
+    assert result.exit_code == 0
+    data = (tmp_path / "exports/seed-poly-345/seed-poly-345.dxf").read_bytes()
+    assert b"\n  0\nSPLINE\n" not in data and b"$INSUNITS" in data
+
+
+def test_arc_fit_on_a_circle_and_a_square() -> None:
+    from camfab.geometry.arcfit import fit_arcs
+
+    angle = np.linspace(0, 2 * np.pi, 3000, endpoint=False)
+    circle = fit_arcs(np.stack((20 * np.cos(angle), 20 * np.sin(angle)), -1), 1e-6)
+    assert len(circle.vertices) <= 4 and np.all(np.abs(circle.bulges) <= 1.0 + 1e-12)
+    assert circle.signed_area == pytest.approx(np.pi * 400, rel=1e-9)
+    side = np.linspace(0, 1, 50, endpoint=False)
+    zero, one = 0 * side, 1 + 0 * side
+    square = np.concatenate([np.stack((side, zero), -1), np.stack((one, side), -1),
+                             np.stack((1 - side, one), -1), np.stack((zero, 1 - side), -1)])
+    lines = fit_arcs(square, 1e-9)
+    assert len(lines.vertices) == 4 and not lines.bulges.any()
