@@ -21,9 +21,6 @@ from camfab.geometry.profile import Profile
 if TYPE_CHECKING:
     from camfab.pipeline import Analysis
 
-#: The share of ``manufacturing.tolerance`` the arc fit may use on top of the sampled profile's
-#: own share (:data:`camfab.geometry.sampling.SAMPLING_SHARE`): the two add up to the tolerance.
-FIT_SHARE = 0.5
 
 #: Layer name -> (ACI colour, linetype): CUT red, references in muted colours.
 LAYERS = {
@@ -64,11 +61,15 @@ def _add_contour(msp: Any, profile: Profile, scale: float, layer: str) -> None:
 
 
 def cut_outline(analysis: Analysis) -> Profile:
-    """The cam outline as it is written: the profile fitted with arcs (mm)."""
+    """The cam outline as it is written: the profile fitted with arcs (mm).
+
+    The fit may stray as far as the profile's own sampling tolerance (half the design tolerance,
+    less where the pressure angle is steep), so the two together stay within the tolerance and
+    the follower's lift error with them.
+    """
     geom = analysis.geometry
     assert geom is not None
-    tolerance = analysis.design.manufacturing.tolerance * FIT_SHARE
-    return fit_arcs(geom.profile.vertices, tolerance)
+    return fit_arcs(geom.profile.vertices, geom.tolerance)
 
 
 def render_dxf(analysis: Analysis, outline: Profile | None = None) -> bytes:
@@ -95,8 +96,7 @@ def render_dxf(analysis: Analysis, outline: Profile | None = None) -> bytes:
             msp.add_circle((0.0, 0.0), cam.bore / 2.0 * scale, dxfattribs={"layer": "CUT"})
         else:
             _add_contour(msp, hole, scale, "CUT")
-    pitch_tolerance = design.manufacturing.tolerance * FIT_SHARE
-    _add_contour(msp, fit_arcs(geom.pitch.xy, pitch_tolerance), scale, "PITCH")
+    _add_contour(msp, fit_arcs(geom.pitch.xy, geom.tolerance), scale, "PITCH")
     msp.add_circle((0.0, 0.0), geom.cam.base_radius * scale, dxfattribs={"layer": "BASE"})
     if geom.cam.prime_radius != geom.cam.base_radius:
         msp.add_circle((0.0, 0.0), geom.cam.prime_radius * scale, dxfattribs={"layer": "PRIME"})

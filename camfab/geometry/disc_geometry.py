@@ -219,6 +219,10 @@ def disc_cam(design: Design) -> DiscCam:
     return DiscCam(FollowerGeometry.from_design(design), base, design.cam.sigma)
 
 
+#: The smallest factor by which a steep pressure angle may shrink the sampling tolerance.
+MIN_TOLERANCE_FACTOR = 0.01
+
+
 def segment_tolerances(cam: DiscCam, dense: DenseCurves, tolerance: float,
                        count: int) -> Array:
     """The chord tolerance of each segment (mm): the sampling share of *tolerance*, scaled so the
@@ -228,13 +232,15 @@ def segment_tolerances(cam: DiscCam, dense: DenseCurves, tolerance: float,
     oscillating flat face turns by δ/l about its pivot (l: the contact's distance along the face),
     which moves the arm's trace point δ·L/l.
     """
-    factor = np.cos(np.minimum(np.abs(dense.pressure_angle), math.radians(80.0)))
+    factor = np.cos(dense.pressure_angle)
     fol = cam.follower
     if fol.flat and fol.oscillating and dense.face_contact is not None:
         factor = np.minimum(1.0, np.abs(dense.face_contact) / fol.arm_length)
     worst = np.ones(count)
     np.minimum.at(worst, dense.segment, factor)
-    return tolerance * SAMPLING_SHARE * np.maximum(worst, 0.05)
+    # a floor keeps the point count finite near φ = 90° (a follower jammed in its guide, which
+    # the pressure-angle check reports); up to φ = 89.4° the lift error stays within the share
+    return tolerance * SAMPLING_SHARE * np.maximum(worst, MIN_TOLERANCE_FACTOR)
 
 
 def disc_geometry(design: Design) -> DiscGeometry:
