@@ -78,27 +78,30 @@ def analyse(design: Design) -> Analysis:
     return Analysis(design, program, units, stats, findings, geometry, numbers)
 
 
-def verify_exports(analysis: Analysis) -> tuple[Analysis, bytes | None]:
+def verify_exports(analysis: Analysis) -> tuple[Analysis, dict[str, bytes]]:
     """Write the DXF in memory, read its CUT outline back and run the follower over it.
 
-    Returns the analysis with its :class:`Verification` and the DXF's bytes (None for cam types
-    without a plate outline).
+    Returns the analysis with its :class:`Verification` and the plate files by output name
+    (``dxf``, ``svg``; none for cam types without a plate outline).
     """
     geom = analysis.geometry
     if geom is None:
-        return analysis, None
+        return analysis, {}
     from dataclasses import replace
 
     from camfab.export.dxf import cut_outline, read_cut_outline, render_dxf
+    from camfab.export.svg import render_svg
     from camfab.geometry.disc_geometry import lift_check
 
-    dxf = render_dxf(analysis, cut_outline(analysis))
+    fitted = cut_outline(analysis)
+    dxf = render_dxf(analysis, fitted)
     outline = read_cut_outline(dxf, analysis.design.mm_per_unit)
     lift = lift_check(geom.cam, analysis.program, outline)
     deviation = None if geom.undercut else float(outline.distance(geom.dense.working.xy).max())
     check = Verification(lift, f"CUT outline read back from {analysis.design.name}.dxf",
                          len(outline.vertices), deviation)
-    return replace(analysis, verification=check), dxf
+    return replace(analysis, verification=check), {"dxf": dxf,
+                                                   "svg": render_svg(analysis, fitted)}
 
 
 def _report_json(analysis: Analysis) -> bytes:
@@ -133,14 +136,14 @@ def render(analysis: Analysis) -> Artifacts:
     """The bytes of every file the design asks for (all that apply by default), after the
     verification of the exported outline (which the report carries)."""
     requested = analysis.design.outputs or ALL_OUTPUTS
-    analysis, dxf = verify_exports(analysis)
+    analysis, plates = verify_exports(analysis)
     files: dict[str, bytes] = {}
     missing = []
     for output in ALL_OUTPUTS:
         if output not in requested:
             continue
-        if output == "dxf" and dxf is not None:
-            files[analysis.design.name + ".dxf"] = dxf
+        if output in plates:
+            files[f"{analysis.design.name}.{output}"] = plates[output]
             continue
         if output not in RENDERERS:
             missing.append(output)

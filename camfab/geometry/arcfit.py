@@ -2,8 +2,8 @@
 allows, for exports that cut arcs (DXF LWPOLYLINE bulges, SVG arcs).
 
 Each arc passes through three of the points (its two ends and the point halfway along) and is
-accepted when every point it spans lies within the tolerance of it and it turns less than half a
-circle (bulge below 1); the fitter grows each arc as far as it stays accepted (doubling, then
+accepted when every point it spans lies within the tolerance of it and it turns at most a quarter
+circle; the fitter grows each arc as far as it stays accepted (doubling, then
 halving the step). Nearly straight runs become lines.
 """
 
@@ -16,6 +16,10 @@ import numpy as np
 from camfab.arrays import Array
 from camfab.geometry.curves import cross
 from camfab.geometry.profile import Profile
+
+#: The longest arc written (rad): a quarter circle. Longer arcs are ill-conditioned where a file
+#: gives an arc by its ends and radius (SVG): near half a circle a rounded radius moves the centre.
+MAX_SWEEP = math.pi / 2
 
 #: An arc flatter than this (its sagitta over its chord) is written as a straight line: at
 #: 1e-9 the difference is far below any tolerance camfab accepts.
@@ -50,7 +54,7 @@ def _arc_error(points: Array, start: int, end: int) -> tuple[float, float]:
     # the points must also run along the arc the bulge describes (not around the far side)
     sweep = math.atan2(float(cross((p0 - centre)[None], (p1 - centre)[None])[0]),
                        float((p0 - centre) @ (p1 - centre)))
-    if turn * sweep < 0:  # the points run the long way round: more than half a circle
+    if turn * sweep < 0 or abs(sweep) > MAX_SWEEP:  # too long an arc (or the long way round)
         return math.inf, 0.0
     return error, math.tan(sweep / 4.0)
 
