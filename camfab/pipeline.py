@@ -100,8 +100,14 @@ def verify_exports(analysis: Analysis) -> tuple[Analysis, dict[str, bytes]]:
     deviation = None if geom.undercut else float(outline.distance(geom.dense.working.xy).max())
     check = Verification(lift, f"CUT outline read back from {analysis.design.name}.dxf",
                          len(outline.vertices), deviation)
-    return replace(analysis, verification=check), {"dxf": dxf,
-                                                   "svg": render_svg(analysis, fitted)}
+    plates = {"dxf": dxf, "svg": render_svg(analysis, fitted)}
+    if "stl" in (analysis.design.outputs or ALL_OUTPUTS):
+        from camfab.export.stl import render_stl
+
+        stl = render_stl(analysis)
+        if stl is not None:
+            plates["stl"] = stl
+    return replace(analysis, verification=check), plates
 
 
 def _report_json(analysis: Analysis) -> bytes:

@@ -170,3 +170,37 @@ def test_svg_outline_at_true_size(path: Path) -> None:
         assert circle is not None
         assert float(circle.get("r", "0")) * design.mm_per_unit == pytest.approx(
             design.cam.bore / 2, abs=1e-6)
+
+
+# ---- STL -------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("path", DISC, ids=[p.stem for p in DISC])
+def test_stl_plate_is_watertight_with_the_right_volume(path: Path) -> None:
+    import struct
+
+    import trimesh
+
+    design = load_design(path)
+    analysis = analyse(design)
+    data = render(analysis).files[f"{design.name}.stl"]
+    count = struct.unpack("<I", data[80:84])[0]
+    assert len(data) == 84 + 50 * count  # binary STL
+    mesh = trimesh.load(io.BytesIO(data), file_type="stl")
+    assert mesh.is_watertight and mesh.is_winding_consistent and mesh.volume > 0
+    thickness = design.cam.thickness
+    assert thickness is not None
+    assert mesh.bounds[0][2] == pytest.approx(0.0, abs=1e-6)
+    assert mesh.bounds[1][2] == pytest.approx(thickness, rel=1e-6)  # mm, also for inch designs
+    geom = analysis.geometry
+    assert geom is not None
+    # the exact plate: the dense exact profile's area less the bore's
+    area = shapely.Polygon(geom.dense.working.xy).area if not geom.undercut else shapely.Polygon(
+        geom.profile.vertices).area
+    if design.cam.bore is not None:
+        r = design.cam.bore / 2
+        area -= np.pi * r**2
+        if design.cam.keyway is not None:  # the keyway above the bore circle, |x| ≤ w/2
+            half, top = design.cam.keyway.width / 2, r + design.cam.keyway.depth
+            area -= 2 * half * top - (half * np.sqrt(r * r - half * half)
+                                      + r * r * np.arcsin(half / r))
+    assert mesh.volume == pytest.approx(area * thickness, rel=1e-4)
