@@ -50,19 +50,6 @@ def bore_points(analysis: Analysis, tolerance: float) -> Array | None:
     return flatten(hole, tolerance)
 
 
-def plate_area(analysis: Analysis) -> float:
-    """The plate's area (mm²) as the STL cuts it: outline less bore."""
-    import shapely
-
-    geom = analysis.geometry
-    assert geom is not None
-    polygon = shapely.Polygon(geom.profile.vertices)
-    hole = bore_points(analysis, geom.tolerance)
-    if hole is not None:
-        polygon = polygon.difference(shapely.Polygon(hole))
-    return float(polygon.area)
-
-
 def render_stl(analysis: Analysis) -> bytes | None:
     """The binary STL of the plate, or None when the design gives no ``thickness``."""
     import manifold3d
