@@ -12,6 +12,7 @@ import math
 from typing import TYPE_CHECKING, NoReturn
 
 from camfab.errors import CamfabError, DesignError
+from camfab.geometry.follower import FollowerGeometry
 
 if TYPE_CHECKING:
     from camfab.design.model import Design
@@ -183,13 +184,12 @@ def _check_oscillating(design: Design, max_swing: float) -> None:
             fail(("follower", "face_offset"), "the face line cannot touch the base circle from "
                  f"this pivot: (base radius + face_offset)/pivot_distance = {ratio:.4g} must lie "
                  "in (0, 1)")
-        psi0 = math.asin(ratio)
     else:
         rp = rb + fol.trace_radius
         if not abs(a - arm) < rp < a + arm:
             fail(("follower", "arm_length"), f"the arm cannot reach the prime circle: need "
                  f"|pivot_distance − arm_length| < {_mm(rp)} < pivot_distance + arm_length")
-        psi0 = math.acos((a * a + arm * arm - rp * rp) / (2 * a * arm))
+    psi0 = FollowerGeometry.from_design(design).rest_position(rb)
     if psi0 + max_swing >= math.pi:
         fail(("follower", "arm_length"), f"the arm starts at {math.degrees(psi0):.4g}° from the "
              f"line of centres and swings {math.degrees(max_swing):.4g}°: it would pass 180°")
