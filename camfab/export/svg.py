@@ -54,7 +54,6 @@ def render_svg(analysis: Analysis, outline: Profile) -> bytes:
     design = analysis.design
     scale = 1.0 / design.mm_per_unit
     shapes = [f'<path d="{path_data(outline, scale)}"/>']
-    points = [outline.vertices * scale]
     cam = design.cam
     if cam.bore is not None:
         keyway = None if cam.keyway is None else (cam.keyway.width, cam.keyway.depth)
@@ -63,13 +62,12 @@ def render_svg(analysis: Analysis, outline: Profile) -> bytes:
             shapes.append(f'<circle cx="0" cy="0" r="{_num(cam.bore / 2 * scale)}"/>')
         else:
             shapes.append(f'<path d="{path_data(hole, scale)}"/>')
-    # the outline's arcs bulge at most to their radius beyond the vertices: pad with the radii
-    extent = np.concatenate(points)
-    reach = float(np.max(np.hypot(extent[:, 0], extent[:, 1])))
-    low, high = -reach, reach
-    size = high - low
-    pad = MARGIN * size
-    x0, y0, width = low - pad, low - pad, size + 2 * pad
+    # a square about the cam centre holding the outline; the margin also covers the arcs'
+    # slight bulge beyond their end points
+    reach = float(np.max(outline.radii())) * scale
+    pad = MARGIN * 2 * reach
+    x0 = y0 = -reach - pad
+    width = 2 * reach + 2 * pad
     unit = design.units
     stroke = _num(width / 1000.0)
     head = (f'<svg xmlns="http://www.w3.org/2000/svg" width="{_num(width)}{unit}" '
