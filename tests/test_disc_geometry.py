@@ -55,6 +55,12 @@ def trace_in_frame(fol: FollowerGeometry, s: np.ndarray) -> np.ndarray:
     return np.stack((p * A - p * L * np.cos(psi), L * np.sin(psi)), -1)
 
 
+def swing_direction(points: np.ndarray, side: int) -> np.ndarray:
+    """How frame *points* on the arm move as Ψ grows: turning about the pivot (side·A, 0)."""
+    arm = points - np.array([side * A, 0.0])
+    return np.stack((arm[:, 1], -arm[:, 0]), -1) * side
+
+
 CASES = [(c, o, sigma, sign) for c in ("knife", "roller", "mushroom", "flat")
          for o in (False, True) for sigma in (1, -1) for sign in (1, -1)]
 IDS = [f"{c}-{'osc' if o else 'tr'}-{'ccw' if s > 0 else 'cw'}-{'+' if g > 0 else '-'}"
@@ -109,8 +115,7 @@ def test_pressure_angle_is_the_angle_between_normal_and_motion(
         if oscillating:
             psi = fol.rest_position(RB) + m[0]
             normal = np.stack((sign * np.sin(psi), np.cos(psi)), -1)
-            arm = contact_frame - np.array([sign * A, 0.0])
-            moving = np.stack((arm[:, 1], -arm[:, 0]), -1) * sign
+            moving = swing_direction(contact_frame, sign)
         else:
             normal = np.tile([0.0, 1.0], (len(theta), 1))
             moving = normal
@@ -124,8 +129,7 @@ def test_pressure_angle_is_the_angle_between_normal_and_motion(
         if oscillating:  # the direction a rise moves the trace point in
             moving *= np.sign(m[1] + 1e-300)[:, None]
             still = np.abs(m[1]) < 1e-9
-            arm = b0 - np.array([sign * A, 0.0])
-            moving[still] = (np.stack((arm[:, 1], -arm[:, 0]), -1) * sign)[still]
+            moving[still] = swing_direction(b0, sign)[still]
     cos = np.einsum("ij,ij->i", normal, moving) / np.hypot(*normal.T) / np.hypot(*moving.T)
     assert np.max(np.abs(np.cos(phi) - cos)) < 1e-6
     if not oscillating and contact != "flat":
