@@ -64,9 +64,8 @@ def cam_numbers(geom: DiscGeometry, segment_count: int) -> CamNumbers:
     contact = None
     if dense.face_contact is not None:
         contact = (float(dense.face_contact.min()), float(dense.face_contact.max()))
-    cut = geom.working.theta
-    cut_mask = np.isin(cut, geom.cut_theta)
-    undercut = merge([*ranges_deg(theta, geom.folds), *ranges_deg(cut, cut_mask)])
+    undercut = merge([*ranges_deg(theta, geom.folds),
+                      *ranges_deg(geom.working.theta, geom.cut)])
     return CamNumbers(
         max_radius_mm=float(np.max(geom.profile.radii())),
         pitch_min_convex=_extreme(theta, rp, rp > 0, largest=False),

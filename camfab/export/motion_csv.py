@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from camfab.arrays import Array
+from camfab.motion.program import cycle_angles
 
 if TYPE_CHECKING:
     from camfab.pipeline import Analysis
@@ -23,8 +23,8 @@ if TYPE_CHECKING:
 def motion_table(analysis: Analysis) -> tuple[list[str], np.ndarray]:
     """Column names and the (rows, columns) array of values (NaN where not computed)."""
     design, units = analysis.design, analysis.units
-    count = round(2 * math.pi / design.table_step)
-    theta: Array = (2 * math.pi / count) * np.arange(count, dtype=np.float64)
+    theta = cycle_angles(design.table_step)
+    count = theta.size
     s = analysis.program.evaluate(theta)
     omega = design.cam.omega
     columns = ["cam_angle_deg", units.displacement_column]

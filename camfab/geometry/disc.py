@@ -44,12 +44,17 @@ class FaceLines:
     h_beta2: Array
     dbeta: Array
 
+    @property
+    def normal(self) -> Array:
+        """(N, 2) unit outward normals of the face lines (cam frame)."""
+        return np.stack((np.cos(self.beta), np.sin(self.beta)), axis=-1)
+
     def contact(self) -> Array:
-        n = np.stack((np.cos(self.beta), np.sin(self.beta)), axis=-1)
+        n = self.normal
         return self.h[:, None] * n + self.h_beta[:, None] * perp(n)
 
     def curve(self) -> CurvePoints:
-        n = np.stack((np.cos(self.beta), np.sin(self.beta)), axis=-1)
+        n = self.normal
         radius = self.h + self.h_beta2
         rate = radius * self.dbeta
         tangent = perp(n) * np.sign(rate)[:, None]
@@ -129,13 +134,16 @@ class DiscCam:
         f, df, ddf, _ = self.trace(m)
         return curve_from_frame(theta, self.sigma, f, df, ddf)
 
-    def working(self, theta: Array, m: Array) -> CurvePoints:
-        """The working curve (cam profile): the envelope of the follower's contact shape."""
+    def working(self, theta: Array, m: Array, lines: FaceLines | None = None) -> CurvePoints:
+        """The working curve (cam profile): the envelope of the follower's contact shape.
+
+        A flat face's *lines* at (θ, m) may be passed when already computed.
+        """
         if self.follower.flat:
-            return self.face_lines(theta, m).curve()
+            return (lines or self.face_lines(theta, m)).curve()
         return offset_inward(self.pitch(theta, m), self.sigma, self.follower.radius)
 
-    def pressure_angle(self, theta: Array, m: Array) -> Array:
+    def pressure_angle(self, theta: Array, m: Array, lines: FaceLines | None = None) -> Array:
         """Signed pressure angle (rad): from the trace point's direction of motion to the common
         normal at contact (pointing out of the cam), counter-clockwise positive.
 
@@ -146,17 +154,16 @@ class DiscCam:
         if fol.flat:
             if not fol.oscillating:
                 return np.zeros_like(theta)
-            lines = self.face_lines(theta, m)
+            lines = lines or self.face_lines(theta, m)
             contact = rotate(lines.contact(), sigma * theta)
-            normal = rotate(np.stack((np.cos(lines.beta), np.sin(lines.beta)), axis=-1),
-                            sigma * theta)
+            normal = rotate(lines.normal, sigma * theta)
             moving = unit(-fol.pivot_sign * perp(contact - self.pivot))
             return signed_angle(moving, normal)
         f, df, _, moving = self.trace(m)
         tangent = df - sigma * perp(f)
         return signed_angle(moving, sigma * perp(tangent))
 
-    def face_contact(self, theta: Array, m: Array) -> Array:
+    def face_contact(self, theta: Array, m: Array, lines: FaceLines | None = None) -> Array:
         """Where a flat face touches the cam, along the face (mm).
 
         Translating: from the stem axis, positive toward +X (``σs′ − e``). Oscillating: from
@@ -165,7 +172,7 @@ class DiscCam:
         fol = self.follower
         if not fol.oscillating:
             return self.sigma * m[1] - fol.offset
-        lines = self.face_lines(theta, m)
+        lines = lines or self.face_lines(theta, m)
         contact = rotate(lines.contact(), self.sigma * theta)
         psi = self.rest + m[0]
         along = np.stack((-fol.pivot_sign * np.cos(psi), np.sin(psi)), axis=-1)

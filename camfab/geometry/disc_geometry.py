@@ -15,7 +15,7 @@ import numpy as np
 
 from camfab.arrays import Array, Index, Mask
 from camfab.geometry.curves import CurvePoints, signed_angle
-from camfab.geometry.disc import DiscCam
+from camfab.geometry.disc import DiscCam, FaceLines
 from camfab.geometry.follower import FollowerGeometry
 from camfab.geometry.profile import MERGE_DISTANCE, Profile
 from camfab.geometry.sampling import SAMPLING_SHARE, arc_points, sample_curve
@@ -28,7 +28,7 @@ from camfab.geometry.undercut import (
     outside_circle_sweep,
     trim_loops,
 )
-from camfab.motion.program import MotionProgram, ProgramSegment
+from camfab.motion.program import MotionProgram, ProgramSegment, cycle_angles
 
 if TYPE_CHECKING:
     from camfab.design import Design
@@ -45,7 +45,8 @@ VERIFY_STEP = math.radians(0.1)
 @dataclass(frozen=True)
 class DenseCurves:
     """Exact values on a fine grid, segment by segment, both ends of each segment included (the
-    one-sided values at a joint). ``face_contact`` is None unless the follower is flat."""
+    one-sided values at a joint). ``lines`` and ``face_contact`` are None unless the follower
+    is flat."""
 
     segment: Index
     theta: Array
@@ -53,6 +54,7 @@ class DenseCurves:
     pitch: CurvePoints
     working: CurvePoints
     pressure_angle: Array
+    lines: FaceLines | None
     face_contact: Array | None
 
 
@@ -103,8 +105,8 @@ class DiscGeometry:
         Where the curvature says the envelope folds over (dense grid mask).
     self_intersecting
         Whether the raw working curve crosses itself.
-    cut_theta
-        Cam angles (rad) of raw working-curve points the trimmed profile has lost.
+    cut
+        The raw working-curve points the trimmed profile has lost (mask over ``working``).
     lift
         The follower run over ``profile``.
     """
@@ -117,12 +119,12 @@ class DiscGeometry:
     profile: Profile
     folds: Mask
     self_intersecting: bool
-    cut_theta: Array
+    cut: Mask
     lift: LiftCheck
 
     @property
     def undercut(self) -> bool:
-        return bool(self.folds.any() or self.self_intersecting or self.cut_theta.size)
+        return bool(self.folds.any() or self.self_intersecting or self.cut.any())
 
 
 def dense_curves(cam: DiscCam, program: MotionProgram, step: float = ANALYSIS_STEP) -> DenseCurves:
@@ -135,9 +137,11 @@ def dense_curves(cam: DiscCam, program: MotionProgram, step: float = ANALYSIS_ST
         parts_m.append(seg.evaluate_local(t))
     theta = np.concatenate(parts_theta)
     motion = np.concatenate(parts_m, axis=1)
-    contact = cam.face_contact(theta, motion) if cam.follower.flat else None
+    lines = cam.face_lines(theta, motion) if cam.follower.flat else None
+    contact = None if lines is None else cam.face_contact(theta, motion, lines)
     return DenseCurves(np.concatenate(parts_seg), theta, motion, cam.pitch(theta, motion),
-                       cam.working(theta, motion), cam.pressure_angle(theta, motion), contact)
+                       cam.working(theta, motion, lines),
+                       cam.pressure_angle(theta, motion, lines), lines, contact)
 
 
 def sample_closed(cam: DiscCam, program: MotionProgram, curve: Literal["pitch", "working"],
@@ -185,10 +189,8 @@ def _on_segment(evaluator: Callable[[Array, Array], CurvePoints], seg: ProgramSe
 
 def _keep_test(cam: DiscCam, pitch: Sampled, dense: DenseCurves, slack: float) -> KeepTest:
     """Where the follower never enters: outside the sweep of its circle, or below every face."""
-    if cam.follower.flat:
-        lines = cam.face_lines(dense.theta, dense.motion)
-        normals = np.stack((np.cos(lines.beta), np.sin(lines.beta)), axis=-1)
-        return below_face_lines(normals, lines.h, slack)
+    if dense.lines is not None:
+        return below_face_lines(dense.lines.normal, dense.lines.h, slack)
     return outside_circle_sweep(pitch.xy, cam.follower.radius, slack)
 
 
@@ -204,8 +206,7 @@ def folds(cam: DiscCam, dense: DenseCurves) -> Mask:
 def lift_check(cam: DiscCam, program: MotionProgram, profile: Profile,
                step: float = VERIFY_STEP) -> LiftCheck:
     """Run the follower over *profile* and compare its lift with *program*'s."""
-    count = round(2 * math.pi / step)
-    theta: Array = (2 * math.pi / count) * np.arange(count, dtype=np.float64)
+    theta = cycle_angles(step)
     position = simulate(profile, cam.follower, theta, cam.sigma)
     error = position - cam.rest - program.evaluate(theta)[0]
     scale = cam.follower.arm_length if cam.follower.oscillating else 1.0
@@ -256,10 +257,10 @@ def disc_geometry(design: Design) -> DiscGeometry:
     folded = folds(cam, dense)
     crossing = not is_simple(working.xy)
     xy = working.xy
-    cut_theta = np.empty(0)
+    cut = np.zeros(len(working.xy), dtype=bool)
     if folded.any() or crossing:
         xy = trim_loops(working.xy, _keep_test(cam, pitch, dense, tolerance))
-        cut_theta = working.theta[cut_away(working.xy, xy, 2 * tolerance)]
+        cut = cut_away(working.xy, xy, 2 * tolerance)
     profile = Profile.from_points(xy).ccw()
     return DiscGeometry(cam, tolerance, dense, pitch, working, profile, folded, crossing,
-                        cut_theta, lift_check(cam, program, profile))
+                        cut, lift_check(cam, program, profile))

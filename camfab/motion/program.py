@@ -28,6 +28,13 @@ TWO_PI = 2.0 * math.pi
 POINT_SLACK = 1e-6
 
 
+def cycle_angles(step: float) -> Array:
+    """Cam angles (rad) from 0 to one turn less one step, the turn split into equal steps as near
+    to *step* as divides it."""
+    count = round(TWO_PI / step)
+    return (TWO_PI / count) * np.arange(count, dtype=np.float64)
+
+
 class ProgramError(ValueError):
     """A motion program that cannot be built: *index* is the segment, *field* its key."""
 
