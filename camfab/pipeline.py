@@ -78,11 +78,13 @@ def analyse(design: Design) -> Analysis:
     return Analysis(design, program, units, stats, findings, geometry, numbers)
 
 
-def verify_exports(analysis: Analysis) -> tuple[Analysis, dict[str, bytes]]:
+def verify_exports(analysis: Analysis,
+                   requested: tuple[str, ...] = ALL_OUTPUTS) -> tuple[Analysis, dict[str, bytes]]:
     """Write the DXF in memory, read its CUT outline back and run the follower over it.
 
-    Returns the analysis with its :class:`Verification` and the plate files by output name
-    (``dxf``, ``svg``; none for cam types without a plate outline).
+    Returns the analysis with its :class:`Verification` and the *requested* plate files by output
+    name (``dxf``, ``svg``, ``stl``; none for cam types without a plate outline). The DXF is
+    made whether requested or not: the verification reads it.
     """
     geom = analysis.geometry
     if geom is None:
@@ -90,7 +92,6 @@ def verify_exports(analysis: Analysis) -> tuple[Analysis, dict[str, bytes]]:
     from dataclasses import replace
 
     from camfab.export.dxf import cut_outline, read_cut_outline, render_dxf
-    from camfab.export.svg import render_svg
     from camfab.geometry.disc_geometry import lift_check
 
     fitted = cut_outline(analysis)
@@ -100,8 +101,12 @@ def verify_exports(analysis: Analysis) -> tuple[Analysis, dict[str, bytes]]:
     deviation = None if geom.undercut else float(outline.distance(geom.dense.working.xy).max())
     check = Verification(lift, f"CUT outline read back from {analysis.design.name}.dxf",
                          len(outline.vertices), deviation)
-    plates = {"dxf": dxf, "svg": render_svg(analysis, fitted)}
-    if "stl" in (analysis.design.outputs or ALL_OUTPUTS):
+    plates = {"dxf": dxf}
+    if "svg" in requested:
+        from camfab.export.svg import render_svg
+
+        plates["svg"] = render_svg(analysis, fitted)
+    if "stl" in requested:
         from camfab.export.stl import render_stl
 
         stl = render_stl(analysis)
@@ -142,7 +147,7 @@ def render(analysis: Analysis) -> Artifacts:
     """The bytes of every file the design asks for (all that apply by default), after the
     verification of the exported outline (which the report carries)."""
     requested = analysis.design.outputs or ALL_OUTPUTS
-    analysis, plates = verify_exports(analysis)
+    analysis, plates = verify_exports(analysis, requested)
     files: dict[str, bytes] = {}
     missing = []
     for output in ALL_OUTPUTS:
