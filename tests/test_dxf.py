@@ -36,6 +36,17 @@ def flattened(entity, sagitta: float) -> np.ndarray:  # type: ignore[no-untyped-
     return np.array(points)
 
 
+def hole_area(bore: float, keyway: tuple[float, float] | None) -> float:
+    """Exact area of a bore of diameter *bore* with a keyway (width, depth above the bore's top):
+    the circle plus the strip |x| ≤ w/2 between the circle and y = r + depth."""
+    r = bore / 2
+    area = np.pi * r * r
+    if keyway is not None:
+        half, top = keyway[0] / 2, r + keyway[1]
+        area += 2 * half * top - (half * np.sqrt(r * r - half * half) + r * r * np.arcsin(half / r))
+    return float(area)
+
+
 def built(path: Path):  # type: ignore[no-untyped-def]
     design = load_design(path)
     artifacts = render(analyse(design))
@@ -108,9 +119,7 @@ def test_bore_with_keyway_is_one_closed_contour() -> None:
     assert float(hole[:, 1].max()) == pytest.approx(6.4, abs=1e-6)
     assert float(hole[:, 1].min()) == pytest.approx(-5.0, abs=1e-4)
     assert float(hole[hole[:, 1] > 5.5][:, 0].max()) == pytest.approx(1.5, abs=1e-9)
-    # the keyway adds the area between the bore circle and y = 6.4 over |x| ≤ 1.5
-    key_area = 3.0 * 6.4 - (1.5 * np.sqrt(25.0 - 2.25) + 25.0 * np.arcsin(0.3))
-    assert polygon.area == pytest.approx(np.pi * 25.0 + key_area, rel=1e-5)
+    assert polygon.area == pytest.approx(hole_area(10.0, (3.0, 1.4)), rel=1e-5)
 
 
 def test_build_writes_the_dxf(tmp_path: Path) -> None:
@@ -197,10 +206,6 @@ def test_stl_plate_is_watertight_with_the_right_volume(path: Path) -> None:
     area = shapely.Polygon(geom.dense.working.xy).area if not geom.undercut else shapely.Polygon(
         geom.profile.vertices).area
     if design.cam.bore is not None:
-        r = design.cam.bore / 2
-        area -= np.pi * r**2
-        if design.cam.keyway is not None:  # the keyway above the bore circle, |x| ≤ w/2
-            half, top = design.cam.keyway.width / 2, r + design.cam.keyway.depth
-            area -= 2 * half * top - (half * np.sqrt(r * r - half * half)
-                                      + r * r * np.arcsin(half / r))
+        key = design.cam.keyway
+        area -= hole_area(design.cam.bore, None if key is None else (key.width, key.depth))
     assert mesh.volume == pytest.approx(area * thickness, rel=1e-4)
