@@ -84,32 +84,44 @@ def verify_exports(analysis: Analysis,
 
     Returns the analysis with its :class:`Verification` and the *requested* plate files by output
     name (``dxf``, ``svg``, ``stl``; none for cam types without a plate outline). The DXF is
-    made whether requested or not: the verification reads it.
+    made whether requested or not: the verification reads it. With a kerf, the part is the
+    outline as written less the kerf/2 the beam takes off, and the deviation is measured from
+    the exact working curve offset by kerf/2.
     """
     geom = analysis.geometry
     if geom is None:
         return analysis, {}
     from dataclasses import replace
 
-    from camfab.export.dxf import cut_outline, read_cut_outline, render_dxf
+    from camfab.export.dxf import read_cut_outline, render_dxf
+    from camfab.geometry.curves import offset_inward
     from camfab.geometry.disc_geometry import lift_check
+    from camfab.geometry.plate import inside_kerf, plate
 
-    fitted = cut_outline(analysis)
-    dxf = render_dxf(analysis, fitted)
-    outline = read_cut_outline(dxf, analysis.design.mm_per_unit)
-    lift = lift_check(geom.cam, analysis.program, outline)
-    deviation = None if geom.undercut else float(outline.distance(geom.dense.working.xy).max())
-    check = Verification(lift, f"CUT outline read back from {analysis.design.name}.dxf",
-                         len(outline.vertices), deviation)
+    design = analysis.design
+    contours = plate(design, geom)
+    dxf = render_dxf(analysis, contours)
+    written = read_cut_outline(dxf, design.mm_per_unit)
+    part = written
+    source = f"CUT outline read back from {design.name}.dxf"
+    if contours.kerf > 0.0:
+        part = inside_kerf(written, contours.kerf, geom.tolerance)
+        source += f", less the kerf/2 of {contours.kerf / 2:.6g} mm the beam removes"
+    lift = lift_check(geom.cam, analysis.program, part)
+    deviation = None
+    if not geom.undercut:
+        exact = offset_inward(geom.dense.working, geom.cam.sigma, -contours.kerf / 2.0)
+        deviation = float(written.distance(exact.xy).max())
+    check = Verification(lift, source, len(written.vertices), deviation)
     plates = {"dxf": dxf}
     if "svg" in requested:
         from camfab.export.svg import render_svg
 
-        plates["svg"] = render_svg(analysis, fitted)
+        plates["svg"] = render_svg(analysis, contours)
     if "stl" in requested:
         from camfab.export.stl import render_stl
 
-        stl = render_stl(analysis)
+        stl = render_stl(analysis, contours)
         if stl is not None:
             plates["stl"] = stl
     return replace(analysis, verification=check), plates

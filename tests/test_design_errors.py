@@ -110,6 +110,14 @@ CASES = [
     ("face-swings-faster-than-cam", "  type: roller\n  motion: translating\n  offset: 10\n"
      "  roller_radius: 7\n", "  type: flat\n  motion: oscillating\n  pivot_distance: 60\n"
      "  arm_length: 40\n", 18, "motion[2]", "swing slower than the cam"),  # 40° back in 80°
+    ("kerf-wider-than-bore", "  - dwell:  {angle: 100}\n",
+     "  - dwell:  {angle: 100}\nmanufacturing: {kerf: 12}\n", 20, "manufacturing.kerf",
+     "smaller than the bore"),
+    ("kerf-wider-than-keyway", "  bore: 10\n",
+     "  bore: 10\n  keyway: {width: 2, depth: 1}\n", None, "manufacturing.kerf", "keyway"),
+    ("negative-cutter", "  - dwell:  {angle: 100}\n",
+     "  - dwell:  {angle: 100}\nmanufacturing: {cutter_radius: -2}\n", 20,
+     "manufacturing.cutter_radius", None),
 ]
 
 
@@ -121,6 +129,9 @@ def test_bad_design_gives_one_located_line_and_exit_2(
 ) -> None:
     assert old in BASE, case
     text = BASE.replace(old, new, 1)
+    if case == "kerf-wider-than-keyway":
+        text += "manufacturing: {kerf: 2.5}\n"
+        line = text.count("\n")
     if case == "motion-not-list":
         text = text.replace("motion:\n", "motion: 12\n").split("  - dwell")[0]
     design = tmp_path / "design.yaml"

@@ -71,7 +71,8 @@ def cam_numbers(geom: DiscGeometry, segment_count: int) -> CamNumbers:
         pitch_min_convex=_extreme(theta, rp, rp > 0, largest=False),
         pitch_min_concave=_extreme(theta, -rp, rp < 0, largest=False),
         profile_min_convex=_extreme(theta, rw, rw > 0, largest=False),
-        profile_min_concave=_extreme(theta, -rw, rw < 0, largest=False),
+        # the raw envelope's loops run backwards (ρ < 0) but are cut away: not concave parts
+        profile_min_concave=_extreme(theta, -rw, (rw < 0) & ~geom.folds, largest=False),
         pressure_angle=_extreme(theta, phi, largest=True),
         segment_pressure=per_segment,
         face_contact_mm=contact,
@@ -95,7 +96,8 @@ def _fmt(value: float) -> str:
 def _where(ranges: tuple[Range, ...]) -> str:
     if not ranges:
         return "a point too small to resolve"
-    return ", ".join(f"{_fmt(a)}°–{_fmt(b)}°" for a, b in ranges)
+    return ", ".join(f"{_fmt(a)}°" if _fmt(a) == _fmt(b) else f"{_fmt(a)}°–{_fmt(b)}°"
+                     for a, b in ranges)
 
 
 def pressure_angle_finding(design: Design, geom: DiscGeometry, numbers: CamNumbers) -> Finding:
@@ -216,11 +218,65 @@ def face_width_finding(design: Design, numbers: CamNumbers) -> Finding | None:
                    f"{_fmt(fol.face_width)} mm {verdict}", needed, fol.face_width, "mm")
 
 
+def cutter_finding(design: Design, geom: DiscGeometry, numbers: CamNumbers) -> Finding | None:
+    """Can a milling cutter of ``cutter_radius`` (running outside the outline) make the profile?
+
+    It cannot follow a concave part of smaller radius, nor reach into a sharp hollow; what it
+    leaves there is measured (the outline closed by the cutter), and where it lies under the
+    follower's contact, the follower is run over the cam as milled.
+    """
+    radius = design.manufacturing.cutter_radius
+    if radius <= 0.0:
+        return None
+    from camfab.geometry.disc_geometry import lift_check
+    from camfab.geometry.offset import closing, on_outline, uncut_depth
+    from camfab.geometry.profile import Profile
+
+    dense, tol = geom.dense, geom.tolerance
+    part = geom.profile.vertices
+    closed = closing(part, radius, 0.25 * tol)
+    depth = uncut_depth(part, closed, dense.working.xy, 2.0 * tol)
+    rw = dense.working.radius
+    tight = (rw < 0) & ~geom.folds & (-rw < radius)
+    deep = depth > design.manufacturing.tolerance
+    # only where the profile is (the raw envelope's points the part has lost do not count)
+    index = np.flatnonzero(tight | deep)
+    on_part = np.zeros(len(rw), dtype=bool)
+    on_part[index] = on_outline(part, dense.working.xy[index], 2.0 * tol)
+    tight &= on_part
+    deep &= on_part
+    where = ranges_deg(dense.theta, tight | deep)
+    smallest = numbers.profile_min_concave
+    if not where:
+        shape = (f"smallest concave radius {_fmt(smallest.value)} mm at "
+                 f"{_fmt(smallest.at_deg or 0.0)}°" if smallest.value is not None
+                 else "the profile has no concave part")
+        return Finding("cutter", True, "error",
+                       f"a cutter of radius {_fmt(radius)} mm follows the whole profile "
+                       f"({shape})", smallest.value, radius, "mm")
+    if tight.any():
+        value = float(np.min(-rw[tight]))
+        cause = f"its concave radius falls to {_fmt(value)} mm"
+        advice = f"a cutter radius below {_fmt(value)} mm cuts it"
+    else:
+        value = 0.0
+        cause = "it has a sharp hollow (a velocity step of the motion makes one)"
+        advice = "a motion law without a velocity step, or finishing the hollow by hand, cuts it"
+    milled = lift_check(geom.cam, design.program, Profile.from_points(closed))
+    return Finding(
+        "cutter", False, "error",
+        f"a cutter of radius {_fmt(radius)} mm cannot follow the profile at {_where(where)}: "
+        f"{cause}; it leaves up to {_fmt(float(depth.max()))} mm of material there, and the cam "
+        f"as milled moves the follower up to {_fmt(milled.max_mm)} mm off the design at "
+        f"{_fmt(milled.at_deg)}°; {advice}", value, radius, "mm", where)
+
+
 def cam_findings(design: Design, geom: DiscGeometry,
                  numbers: CamNumbers) -> list[Finding]:
     """Every geometric check of a disc cam."""
     found = [pressure_angle_finding(design, geom, numbers),
              undercut_finding(design, geom, numbers),
              curvature_finding(design, geom, numbers),
-             face_width_finding(design, numbers)]
+             face_width_finding(design, numbers),
+             cutter_finding(design, geom, numbers)]
     return [f for f in found if f is not None]

@@ -57,6 +57,7 @@ def check_rules(design: Design) -> None:
     _check_cam_fit(design, program.max_lift)
     _check_oscillating(design, program.max_lift)
     _check_swinging_face(design, program)
+    _check_manufacturing(design)
     _check_other(design)
 
 
@@ -227,6 +228,18 @@ def _check_swinging_face(design: Design, program: MotionProgram) -> None:
              f"turns: 1 + σψ′ falls to {margin[worst]:.3g} at {math.degrees(theta[worst]):.4g}° "
              f"(at least {MIN_FACE_TURN_MARGIN:g}), so the contact runs off the face; spread "
              f"the swing over a larger angle", show_got=False)
+
+
+def _check_manufacturing(design: Design) -> None:
+    """The laser's kerf must leave the holes something to cut (the beam runs kerf/2 inside)."""
+    cam, kerf = design.cam, design.manufacturing.kerf
+    if kerf <= 0.0 or cam.bore is None:
+        return
+    if kerf >= cam.bore:
+        fail(("manufacturing", "kerf"), f"must be smaller than the bore ({_mm(cam.bore)})")
+    if cam.keyway is not None and kerf >= cam.keyway.width:
+        fail(("manufacturing", "kerf"),
+             f"must be smaller than the keyway's width ({_mm(cam.keyway.width)})")
 
 
 def _check_other(design: Design) -> None:

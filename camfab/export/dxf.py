@@ -1,9 +1,11 @@
 """``NAME.dxf``: the cam plate for laser and CNC (SPEC §5), written with ezdxf.
 
 Everything to be cut is on layer ``CUT`` as closed LWPOLYLINEs of lines and arcs (bulges) or
-CIRCLEs — never SPLINE — in the design's units with ``$INSUNITS`` set. The outline is the
-tolerance-sampled profile fitted with arcs, so each contour holds tens of entities, not thousands
-of tiny segments. Reference geometry goes on ``PITCH``, ``BASE``, ``PRIME``, ``MARK`` and ``NOTE``.
+CIRCLEs — never SPLINE — in the design's units with ``$INSUNITS`` set: the plate's contours,
+kerf-compensated when the design gives a kerf. The outline is the tolerance-sampled profile fitted
+with arcs, so each contour holds tens of entities, not thousands of tiny segments. Reference
+geometry goes on ``PITCH``, ``BASE``, ``PRIME``, ``TOOLPATH`` (a milling cutter's centre path),
+``MARK`` and ``NOTE``.
 """
 
 from __future__ import annotations
@@ -19,6 +21,7 @@ from camfab.geometry.arcfit import fit_arcs
 from camfab.geometry.profile import Profile
 
 if TYPE_CHECKING:
+    from camfab.geometry.plate import Contours, Plate
     from camfab.pipeline import Analysis
 
 
@@ -28,6 +31,7 @@ LAYERS = {
     "PITCH": (5, "DASHED"),
     "BASE": (8, "CONTINUOUS"),
     "PRIME": (8, "DASHDOT"),
+    "TOOLPATH": (4, "CONTINUOUS"),
     "MARK": (3, "CONTINUOUS"),
     "NOTE": (7, "CONTINUOUS"),
 }
@@ -36,44 +40,21 @@ LAYERS = {
 INSUNITS = {"mm": 4, "in": 1}
 
 
-def bore_contour(diameter: float, keyway: tuple[float, float] | None) -> Profile | None:
-    """The bore as a closed contour (mm): None for a plain round bore (a CIRCLE is written), or
-    the circle with a keyway of (width, depth) cut on +Y, the depth measured from the bore's top."""
-    if keyway is None:
-        return None
-    r = diameter / 2.0
-    width, depth = keyway
-    half = width / 2.0
-    foot = math.sqrt(max(r * r - half * half, 0.0))
-    top = r + depth
-    # around the hole: up the keyway's right side, across, down its left side, round the bottom
-    # of the bore back to the start in two arcs (each under half a circle)
-    sweep = 2.0 * math.pi - 2.0 * math.asin(min(half / r, 1.0))
-    vertices = np.array([[half, foot], [half, top], [-half, top], [-half, foot], [0.0, -r]])
-    bulge = math.tan(sweep / 8.0)
-    return Profile(vertices, np.array([0.0, 0.0, 0.0, bulge, bulge]))
-
-
 def _add_contour(msp: Any, profile: Profile, scale: float, layer: str) -> None:
     points = [(float(x) * scale, float(y) * scale, float(b))
               for (x, y), b in zip(profile.vertices, profile.bulges, strict=True)]
     msp.add_lwpolyline(points, format="xyb", close=True, dxfattribs={"layer": layer})
 
 
-def cut_outline(analysis: Analysis) -> Profile:
-    """The cam outline as it is written: the profile fitted with arcs (mm).
-
-    The fit may stray as far as the profile's own sampling tolerance (half the design tolerance,
-    less where the pressure angle is steep), so the two together stay within the tolerance and
-    the follower's lift error with them.
-    """
-    geom = analysis.geometry
-    assert geom is not None
-    return fit_arcs(geom.profile.vertices, geom.tolerance)
+def _add_contours(msp: Any, contours: Contours, scale: float, layer: str) -> None:
+    for profile in contours.profiles:
+        _add_contour(msp, profile, scale, layer)
+    for radius in contours.circles:
+        msp.add_circle((0.0, 0.0), radius * scale, dxfattribs={"layer": layer})
 
 
-def render_dxf(analysis: Analysis, outline: Profile | None = None) -> bytes:
-    """The DXF file as bytes (R2010, ASCII, no timestamps)."""
+def render_dxf(analysis: Analysis, plate: Plate) -> bytes:
+    """The DXF file of *plate* as bytes (R2010, ASCII, no timestamps)."""
     import ezdxf
 
     design, geom = analysis.design, analysis.geometry
@@ -85,28 +66,20 @@ def render_dxf(analysis: Analysis, outline: Profile | None = None) -> bytes:
     for name, (colour, linetype) in LAYERS.items():
         doc.layers.add(name, color=colour, linetype=linetype)
     msp = doc.modelspace()
-    if outline is None:
-        outline = cut_outline(analysis)
-    _add_contour(msp, outline, scale, "CUT")
-    cam = design.cam
-    if cam.bore is not None:
-        keyway = None if cam.keyway is None else (cam.keyway.width, cam.keyway.depth)
-        hole = bore_contour(cam.bore, keyway)
-        if hole is None:
-            msp.add_circle((0.0, 0.0), cam.bore / 2.0 * scale, dxfattribs={"layer": "CUT"})
-        else:
-            _add_contour(msp, hole, scale, "CUT")
+    _add_contours(msp, plate.cut, scale, "CUT")
+    if plate.toolpath is not None:
+        _add_contours(msp, plate.toolpath, scale, "TOOLPATH")
     _add_contour(msp, fit_arcs(geom.pitch.xy, geom.tolerance), scale, "PITCH")
     msp.add_circle((0.0, 0.0), geom.cam.base_radius * scale, dxfattribs={"layer": "BASE"})
     if geom.cam.prime_radius != geom.cam.base_radius:
         msp.add_circle((0.0, 0.0), geom.cam.prime_radius * scale, dxfattribs={"layer": "PRIME"})
-    _add_marks(msp, analysis, scale, len(outline.vertices))
+    _add_marks(msp, analysis, scale, plate)
     stream = io.StringIO()
     doc.write(stream)
     return _strip_volatile(stream.getvalue()).encode("utf-8")
 
 
-def _add_marks(msp: Any, analysis: Analysis, scale: float, entities: int) -> None:
+def _add_marks(msp: Any, analysis: Analysis, scale: float, plate: Plate) -> None:
     geom = analysis.geometry
     assert geom is not None
     rb = geom.cam.base_radius
@@ -116,13 +89,24 @@ def _add_marks(msp: Any, analysis: Analysis, scale: float, entities: int) -> Non
     # θ = 0: a tick on +Y just inside the base circle, where the follower sits
     msp.add_line((0.0, 0.6 * rb * scale), (0.0, 0.9 * rb * scale), dxfattribs={"layer": "MARK"})
     design = analysis.design
-    text = (f"{design.name}: disc cam, {design.cam.rotation}, base radius "
-            f"{rb * scale:.6g} {design.units}; outline of {entities} lines and arcs within "
-            f"{design.manufacturing.tolerance * scale:.3g} {design.units}")
+    unit = design.units
+    lines = [f"{design.name}: disc cam, {design.cam.rotation}, base radius {rb * scale:.6g} "
+             f"{unit}",
+             f"outline of {len(plate.cut.profiles[0].vertices)} lines and arcs within "
+             f"{design.manufacturing.tolerance * scale:.3g} {unit}"]
+    if plate.kerf > 0.0:
+        lines.append(f"CUT offset for a kerf of {plate.kerf * scale:.4g} {unit}")
+    cutter = design.manufacturing.cutter_radius
+    if cutter > 0.0:
+        lines.append(f"TOOLPATH: centre of a cutter of radius {cutter * scale:.4g} {unit}")
     height = max(rb * scale * 0.06, 1e-3)
-    low = float(np.min(geom.profile.vertices[:, 1])) * scale
-    msp.add_text(text, height=height, dxfattribs={"layer": "NOTE"}).set_placement(
-        (-float(np.max(np.abs(geom.profile.vertices[:, 0]))) * scale, low - 3 * height))
+    left = -float(np.max(np.abs(geom.profile.vertices[:, 0]))) * scale
+    low = float(np.min(geom.profile.vertices[:, 1])) * scale - 1.5 * height
+    if plate.toolpath is not None:
+        low -= cutter * scale
+    for row, line in enumerate(lines, start=1):
+        msp.add_text(line, height=height, dxfattribs={"layer": "NOTE"}).set_placement(
+            (left, low - 1.6 * row * height))
 
 
 def _strip_volatile(text: str) -> str:

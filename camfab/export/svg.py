@@ -15,6 +15,7 @@ import numpy as np
 from camfab.geometry.profile import Profile
 
 if TYPE_CHECKING:
+    from camfab.geometry.plate import Plate
     from camfab.pipeline import Analysis
 
 #: Margin around the drawing, as a fraction of its size.
@@ -47,24 +48,16 @@ def path_data(profile: Profile, scale: float) -> str:
     return " ".join(parts)
 
 
-def render_svg(analysis: Analysis, outline: Profile) -> bytes:
-    """The SVG file as bytes: the cam outline (mm in, *outline*) and the bore."""
-    from camfab.export.dxf import bore_contour
-
+def render_svg(analysis: Analysis, plate: Plate) -> bytes:
+    """The SVG file as bytes: the plate's CUT contours (the outline first), as the DXF has them."""
     design = analysis.design
     scale = 1.0 / design.mm_per_unit
-    shapes = [f'<path d="{path_data(outline, scale)}"/>']
-    cam = design.cam
-    if cam.bore is not None:
-        keyway = None if cam.keyway is None else (cam.keyway.width, cam.keyway.depth)
-        hole = bore_contour(cam.bore, keyway)
-        if hole is None:
-            shapes.append(f'<circle cx="0" cy="0" r="{_num(cam.bore / 2 * scale)}"/>')
-        else:
-            shapes.append(f'<path d="{path_data(hole, scale)}"/>')
+    shapes = [f'<path d="{path_data(profile, scale)}"/>' for profile in plate.cut.profiles]
+    shapes += [f'<circle cx="0" cy="0" r="{_num(radius * scale)}"/>'
+               for radius in plate.cut.circles]
     # a square about the cam centre holding the outline; the margin also covers the arcs'
     # slight bulge beyond their end points
-    reach = float(np.max(outline.radii())) * scale
+    reach = float(np.max(plate.cut.profiles[0].radii())) * scale
     pad = MARGIN * 2 * reach
     x0 = y0 = -reach - pad
     width = 2 * reach + 2 * pad

@@ -8,12 +8,14 @@ counter-clockwise order, in which a positive bulge is convex (the arc bulges out
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from camfab.arrays import Array, Index
 from camfab.geometry.curves import cross
+from camfab.geometry.sampling import arc_points
 
 #: Two consecutive vertices closer than this (mm) are one point: far below any tolerance and far
 #: above the rounding of coordinates of cams up to metres in size.
@@ -115,6 +117,32 @@ class Profile:
             to_arc = np.where(inside, np.abs(radius - arcs.radius), ends)
             best = np.minimum(best, to_arc.min(axis=1))
         return best
+
+    def points(self, tolerance: float) -> Array:
+        """The contour as a closed chain of points (mm), in order, without a repeated closing
+        point: its arcs cut into chords within *tolerance* (mm), and its lines into pieces no
+        longer than those chords, so the chain samples lines as finely as arcs (an arc fit of
+        the chain, after an offset say, then cannot bow away from a long line between two of
+        its points)."""
+        arcs = self.arcs()
+        if not arcs.index.size:
+            return self.vertices.copy()
+        chains = {int(i): arc_points(arcs.centre[k], self.vertices[i], float(arcs.sweep[k]),
+                                     tolerance)[:-1]
+                  for k, i in enumerate(arcs.index)}
+        chords = [np.hypot(*np.diff(c, axis=0).T) for c in chains.values() if len(c) > 1]
+        gap = max((float(c.max()) for c in chords), default=math.inf)
+        following = np.roll(self.vertices, -1, axis=0)
+        pieces = []
+        for i, vertex in enumerate(self.vertices):
+            chain = chains.get(i)
+            if chain is not None:
+                pieces.append(chain)
+                continue
+            count = max(1, math.ceil(float(np.hypot(*(following[i] - vertex))) / gap))
+            t = np.arange(count)[:, None] / count
+            pieces.append(vertex + t * (following[i] - vertex))
+        return np.concatenate(pieces)
 
     def radii(self) -> Array:
         """Distance of every vertex from the cam centre (mm)."""
