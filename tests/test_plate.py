@@ -64,7 +64,7 @@ def hole_outline() -> shapely.LinearRing:
 
 def test_kerf_moves_the_outline_out_and_the_holes_in() -> None:
     kerf = 0.4
-    design, analysis, doc, report = build(seed_10_4(f"manufacturing: {{kerf: {kerf}}}\n"))
+    _, analysis, doc, report = build(seed_10_4(f"manufacturing: {{kerf: {kerf}}}\n"))
     geom = analysis.geometry
     assert geom is not None and not geom.undercut
     cut = contours(doc, "CUT")
@@ -141,7 +141,8 @@ def pitch_concave_radius(design, theta: np.ndarray) -> np.ndarray:  # type: igno
 
 def test_cutter_larger_than_a_concave_radius_is_a_finding_where_it_is() -> None:
     cutter = 30.0
-    design, analysis, doc, report = build(seed_10_4(f"manufacturing: {{cutter_radius: {cutter}}}\n"))
+    extra = f"manufacturing: {{cutter_radius: {cutter}}}\n"
+    design, analysis, doc, report = build(seed_10_4(extra))
     # independent: where the profile is concave with a radius under the cutter's
     # a grid that comes within 0.001° of each joint from both sides, where one-sided values hold
     joints = np.array([0.0, 120.0, 180.0, 260.0, 360.0])

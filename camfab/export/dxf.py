@@ -11,7 +11,6 @@ geometry goes on ``PITCH``, ``BASE``, ``PRIME``, ``TOOLPATH`` (a milling cutter'
 from __future__ import annotations
 
 import io
-import math
 import re
 from typing import TYPE_CHECKING, Any
 
