@@ -21,6 +21,7 @@ from camfab.motion.program import MotionProgram
 
 if TYPE_CHECKING:
     from camfab.analysis.cam_checks import CamNumbers
+    from camfab.export.stl import StlCheck
     from camfab.geometry.disc_geometry import DiscGeometry, LiftCheck
 
 #: Every output a design may ask for, in the order files are listed.
@@ -29,7 +30,8 @@ ALL_OUTPUTS = ("dxf", "svg", "stl", "report", "csv")
 
 @dataclass(frozen=True)
 class Verification:
-    """The follower run over the CUT outline read back from the written DXF.
+    """The follower run over the CUT outline read back from the written DXF, and the STL read
+    back (when one is made).
 
     ``deviation_mm`` is the largest distance of the exact working curve from that outline (None
     for an undercut cam, whose outline is the trimmed one on purpose).
@@ -39,6 +41,7 @@ class Verification:
     source: str
     entities: int
     deviation_mm: float | None
+    stl: StlCheck | None = None
 
 
 @dataclass(frozen=True)
@@ -112,19 +115,46 @@ def verify_exports(analysis: Analysis,
     if not geom.undercut:
         exact = offset_inward(geom.dense.working, geom.cam.sigma, -contours.kerf / 2.0)
         deviation = float(written.distance(exact.xy).max())
-    check = Verification(lift, source, len(written.vertices), deviation)
     plates = {"dxf": dxf}
     if "svg" in requested:
         from camfab.export.svg import render_svg
 
         plates["svg"] = render_svg(analysis, contours)
+    stl_check = None
     if "stl" in requested:
-        from camfab.export.stl import render_stl
+        from camfab.export.stl import check_stl, expected_volume, render_stl
 
         stl = render_stl(analysis, contours)
         if stl is not None:
             plates["stl"] = stl
-    return replace(analysis, verification=check), plates
+            stl_check = check_stl(stl, *expected_volume(analysis, contours))
+    check = Verification(lift, source, len(written.vertices), deviation, stl_check)
+    findings = [*analysis.findings, verification_finding(analysis, check)]
+    return replace(analysis, verification=check, findings=findings), plates
+
+
+def verification_finding(analysis: Analysis, check: Verification) -> Finding:
+    """Do the files hold the design? The follower's lift over the written outline within the
+    tolerance (an undercut cam's error is the undercut finding's), and the STL closed, outward
+    and of the part's volume."""
+    tolerance = analysis.design.manufacturing.tolerance
+    geom = analysis.geometry
+    assert geom is not None
+    lift_ok = geom.undercut or check.lift.max_mm <= tolerance
+    parts = [f"the follower run over the CUT outline as written moves "
+             f"{check.lift.max_mm:.3g} mm at most from the design motion (at "
+             f"{check.lift.at_deg:.4g}°, tolerance {tolerance:.3g} mm)"]
+    stl = check.stl
+    if stl is not None:
+        shape = ("closed, outward, no degenerate face" if stl.watertight and
+                 stl.consistent_winding and stl.degenerate_faces == 0 else
+                 f"NOT a closed outward solid (watertight: {stl.watertight}, consistent "
+                 f"winding: {stl.consistent_winding}, degenerate faces: {stl.degenerate_faces})")
+        parts.append(f"the STL reads back {shape}, {stl.faces} faces, "
+                     f"{stl.volume_mm3:.6g} mm³ against the part's {stl.expected_volume_mm3:.6g}")
+    ok = lift_ok and (stl is None or stl.ok)
+    return Finding("verification", ok, "error", "; ".join(parts), check.lift.max_mm,
+                   tolerance, "mm")
 
 
 def _report_json(analysis: Analysis) -> bytes:

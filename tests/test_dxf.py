@@ -16,24 +16,9 @@ from camfab.design import design_from_text, load_design
 from camfab.pipeline import analyse, render
 
 from .conftest import DESIGN_FILES, DESIGNS, run_cli
+from .dxf_loops import loop_edge_count, loops
 
 DISC = [p for p in DESIGN_FILES if load_design(p).cam.type == "disc"]
-
-
-def flattened(entity, sagitta: float) -> np.ndarray:  # type: ignore[no-untyped-def]
-    """A CUT polyline as points by ezdxf's own arcs (true circles; its Bézier paths are only
-    within 2.7e-4 of the radius, too coarse here)."""
-    vertices = [np.array(p[:2]) for p in entity.get_points("xy")]
-    points: list[tuple[float, float]] = []
-    for vertex, piece in zip(vertices, entity.virtual_entities(), strict=False):
-        if piece.dxftype() == "ARC":
-            pts = [(v.x, v.y) for v in piece.flattening(sagitta)]
-        else:
-            pts = [(piece.dxf.start.x, piece.dxf.start.y), (piece.dxf.end.x, piece.dxf.end.y)]
-        if np.hypot(*(np.array(pts[-1]) - vertex)) < np.hypot(*(np.array(pts[0]) - vertex)):
-            pts.reverse()  # an ARC runs counter-clockwise; this stretch of the polyline does not
-        points.extend(pts[:-1])
-    return np.array(points)
 
 
 def hole_area(bore: float, keyway: tuple[float, float] | None) -> float:
@@ -67,15 +52,15 @@ def test_dxf_structure_and_accuracy(path: Path) -> None:
     assert len(msp.query("SPLINE")) == 0
     cut = msp.query('*[layer=="CUT"]')
     assert {e.dxftype() for e in cut} <= {"LWPOLYLINE", "CIRCLE", "LINE", "ARC"}
-    outlines = [e for e in cut if e.dxftype() == "LWPOLYLINE"]
-    assert all(e.closed for e in outlines)
+    # every line and arc is part of a closed contour
+    count, in_loops = loop_edge_count(doc, "CUT")
+    assert in_loops == count
     # few entities: arcs, not thousands of tiny segments
-    outer = max(outlines, key=lambda e: shapely.Polygon(np.array(e.get_points("xy"))).area)
-    assert len(outer) < 120
+    assert report["verification"]["cut_outline_entities"] < 120
     # flattened by ezdxf to 1e-5 of the file unit: simple, and within the tolerance of the exact
     # working curve
     scale = design.mm_per_unit
-    ring = shapely.LinearRing(flattened(outer, 1e-5 / scale) * scale)
+    ring = shapely.LinearRing(loops(doc, "CUT", 1e-5 / scale)[0] * scale)
     assert ring.is_simple
     analysis = analyse(design)
     geom = analysis.geometry
@@ -101,8 +86,8 @@ def test_same_design_same_bytes() -> None:
 
 def test_inch_design_is_drawn_in_inches() -> None:
     _design, _, doc, report = built(DESIGNS / "demo-inch-flat.yaml")
-    outer = doc.modelspace().query('LWPOLYLINE[layer=="CUT"]')
-    radius = max(float(np.max(np.hypot(*np.array(e.get_points("xy")).T))) for e in outer)
+    outer = loops(doc, "CUT")[0]
+    radius = float(np.max(np.hypot(*outer.T)))
     assert radius == pytest.approx(report["geometry"]["max_radius_mm"] / 25.4, abs=1e-3)
 
 
@@ -111,8 +96,7 @@ def test_bore_with_keyway_is_one_closed_contour() -> None:
         "  bore: 10", "  bore: 10\n  keyway: {width: 3, depth: 1.4}")
     design = design_from_text(text)
     doc = ezdxf.read(io.StringIO(render(analyse(design)).files["seed-10-4.dxf"].decode()))
-    contours = [flattened(e, 1e-5) for e in doc.modelspace().query('LWPOLYLINE[layer=="CUT"]')]
-    hole = min(contours, key=lambda c: shapely.Polygon(c).area)
+    hole = loops(doc, "CUT")[-1]
     polygon = shapely.Polygon(hole)
     assert polygon.is_valid
     # the bore's circle (r = 5) with the keyway up to r + 1.4 on +Y, 3 wide

@@ -18,7 +18,7 @@ from camfab.design import design_from_text
 from camfab.pipeline import analyse, render
 
 from .conftest import DESIGNS
-from .test_dxf import flattened
+from .dxf_loops import loops
 
 TOLERANCE = 0.001  # mm, the designs' default
 
@@ -41,14 +41,6 @@ def build(text: str):  # type: ignore[no-untyped-def]
     return design, artifacts.analysis, doc, report
 
 
-def contours(doc, layer: str) -> list[np.ndarray]:  # type: ignore[no-untyped-def]
-    """The closed contours on *layer* as points (circles flattened too), largest first."""
-    out = [flattened(e, 1e-5) for e in doc.modelspace().query(f'LWPOLYLINE[layer=="{layer}"]')]
-    for circle in doc.modelspace().query(f'CIRCLE[layer=="{layer}"]'):
-        out.append(np.array([(v.x, v.y) for v in circle.flattening(1e-5)]))
-    return sorted(out, key=lambda c: -shapely.Polygon(c).area)
-
-
 def hole_outline() -> shapely.LinearRing:
     """The part's bore (r = 5) with its keyway (3 wide, 1.4 above the bore's top), from its
     definition, the arc flattened to 1e-7 mm."""
@@ -67,7 +59,7 @@ def test_kerf_moves_the_outline_out_and_the_holes_in() -> None:
     _, analysis, doc, report = build(seed_10_4(f"manufacturing: {{kerf: {kerf}}}\n"))
     geom = analysis.geometry
     assert geom is not None and not geom.undercut
-    cut = contours(doc, "CUT")
+    cut = loops(doc, "CUT")
     assert len(cut) == 2
     outline, hole = cut
     # the outline: every point kerf/2 outside the exact working curve, and back
@@ -110,7 +102,7 @@ def test_svg_holds_the_kerf_compensated_contours() -> None:
     paths = root.findall(".//{http://www.w3.org/2000/svg}path")
     assert len(paths) == 2  # the outline and the keyed bore
     doc = ezdxf.read(io.StringIO(files["seed-10-4.dxf"].decode()))
-    for path, contour in zip(paths, contours(doc, "CUT"), strict=True):
+    for path, contour in zip(paths, loops(doc, "CUT"), strict=True):
         points = np.array(SvgPath(path.get("d", "")).npoint(np.linspace(0.0, 1.0, 4001)))
         xy = np.stack((points[:, 0], -points[:, 1]), -1)  # SVG's y axis points down
         gap = shapely.distance(shapely.points(xy), shapely.LinearRing(contour))
@@ -164,7 +156,7 @@ def test_cutter_larger_than_a_concave_radius_is_a_finding_where_it_is() -> None:
     assert "mm off the design" in finding["message"]
     assert analysis.exit_code == 1
     # the toolpath keeps the cutter clear of the part, touching it wherever it fits
-    path = contours(doc, "TOOLPATH")[0]
+    path = loops(doc, "TOOLPATH")[0]
     part = shapely.LinearRing(geom_points(analysis))
     gap = shapely.distance(shapely.points(path), part)
     assert float(gap.min()) >= cutter - TOLERANCE
@@ -181,7 +173,7 @@ def test_cutter_that_fits_passes_and_its_path_is_one_radius_off() -> None:
     _, analysis, doc, report = build(seed_10_4(f"manufacturing: {{cutter_radius: {cutter}}}\n"))
     finding = next(c for c in report["checks"] if c["id"] == "cutter")
     assert finding["ok"], finding["message"]
-    outline, hole = contours(doc, "TOOLPATH")
+    outline, hole = loops(doc, "TOOLPATH")
     gap = shapely.distance(shapely.points(outline), shapely.LinearRing(geom_points(analysis)))
     assert np.max(np.abs(gap - cutter)) <= TOLERANCE
     # inside the keyed bore the centre runs 3 mm in from the hole; the keyway, 3 wide, is too

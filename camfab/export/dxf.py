@@ -11,6 +11,7 @@ geometry goes on ``PITCH``, ``BASE``, ``PRIME``, ``TOOLPATH`` (a milling cutter'
 from __future__ import annotations
 
 import io
+import math
 import re
 from typing import TYPE_CHECKING, Any
 
@@ -40,9 +41,27 @@ INSUNITS = {"mm": 4, "in": 1}
 
 
 def _add_contour(msp: Any, profile: Profile, scale: float, layer: str) -> None:
-    points = [(float(x) * scale, float(y) * scale, float(b))
-              for (x, y), b in zip(profile.vertices, profile.bulges, strict=True)]
-    msp.add_lwpolyline(points, format="xyb", close=True, dxfattribs={"layer": layer})
+    """A closed contour as LINE and ARC entities meeting end to end.
+
+    Not one LWPOLYLINE with bulges: OpenSCAD's DXF import (among others) drops the bulges and
+    cuts chords, while every DXF reader takes lines and arcs, and CAD/CAM programs chain them
+    into the closed contour.
+    """
+    attribs = {"layer": layer}
+    v = profile.vertices * scale
+    following = np.roll(v, -1, axis=0)
+    arcs = profile.arcs()
+    arc_at = {int(i): k for k, i in enumerate(arcs.index)}
+    for i in range(len(v)):
+        k = arc_at.get(i)
+        if k is None:
+            msp.add_line(tuple(v[i]), tuple(following[i]), dxfattribs=attribs)
+            continue
+        start = math.degrees(float(arcs.start_angle[k]))
+        sweep = math.degrees(float(arcs.sweep[k]))
+        low, high = (start, start + sweep) if sweep > 0 else (start + sweep, start)
+        msp.add_arc(tuple(arcs.centre[k] * scale), float(arcs.radius[k]) * scale, low, high,
+                    dxfattribs=attribs)
 
 
 def _add_contours(msp: Any, contours: Contours, scale: float, layer: str) -> None:
@@ -129,15 +148,19 @@ def _strip_volatile(text: str) -> str:
 
 
 def read_cut_outline(data: bytes, mm_per_unit: float) -> Profile:
-    """The largest closed contour on layer CUT of a DXF (the cam outline), in mm."""
+    """The largest closed contour on layer CUT of a DXF (the cam outline), in mm: its lines,
+    arcs and polylines chained into loops by ezdxf's edge miner, as a reader of the file would."""
     import ezdxf
+    from ezdxf import edgeminer, edgesmith
 
     doc = ezdxf.read(io.StringIO(data.decode("utf-8")))
+    entities = doc.modelspace().query('LINE ARC LWPOLYLINE[layer=="CUT"]')
+    edges = list(edgesmith.edges_from_entities_2d(entities))
     best: Profile | None = None
-    entity: Any
-    for entity in doc.modelspace().query('LWPOLYLINE[layer=="CUT"]'):
-        points = np.array(list(entity.get_points("xyb")), dtype=np.float64)
-        profile = Profile(points[:, :2] * mm_per_unit, points[:, 2])
+    for loop in edgeminer.find_all_loops(edgeminer.Deposit(edges)):
+        polyline = edgesmith.lwpolyline_from_chain(loop)
+        points = np.array(list(polyline.get_points("xyb")), dtype=np.float64)
+        profile = Profile.from_points(points[:, :2] * mm_per_unit, points[:, 2])
         if best is None or profile.area > best.area:
             best = profile
     if best is None:

@@ -106,6 +106,16 @@ def _verification(analysis: Analysis) -> dict[str, Any]:
         "angle_step_deg": math.degrees(float(check.lift.theta[1] - check.lift.theta[0])),
         "cut_outline_entities": check.entities,
         "cut_outline_max_deviation_mm": check.deviation_mm,
+        "stl": None if check.stl is None else {
+            "checked_on": f"{analysis.design.name}.stl read back",
+            "faces": check.stl.faces,
+            "watertight": check.stl.watertight,
+            "consistent_winding": check.stl.consistent_winding,
+            "degenerate_faces": check.stl.degenerate_faces,
+            "volume_mm3": check.stl.volume_mm3,
+            "expected_volume_mm3": check.stl.expected_volume_mm3,
+            "volume_allowance_mm3": check.stl.volume_allowance_mm3,
+        },
     }
 
 

@@ -8,7 +8,9 @@ same tolerance.
 
 from __future__ import annotations
 
+import io
 import math
+from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -48,3 +50,62 @@ def render_stl(analysis: Analysis, plate: Plate) -> bytes | None:
     data = tm.export(file_type="stl")
     assert isinstance(data, bytes)
     return data
+
+
+#: A face with less area than this (mm²) counts as degenerate: far below any facet a plate of
+#: tolerance-sampled curves has, far above the rounding of float32 coordinates' products.
+DEGENERATE_AREA_MM2 = 1e-10
+
+
+@dataclass(frozen=True)
+class StlCheck:
+    """The STL as a reader sees it: read back from its bytes with trimesh (vertices merged).
+
+    ``volume_allowance_mm3`` is how far the volume may differ from the part's area × thickness:
+    the tolerance along every contour, through the thickness.
+    """
+
+    faces: int
+    watertight: bool
+    consistent_winding: bool
+    degenerate_faces: int
+    volume_mm3: float
+    expected_volume_mm3: float
+    volume_allowance_mm3: float
+
+    @property
+    def ok(self) -> bool:
+        """Closed, consistently wound with outward normals (positive volume), no degenerate
+        face, and the volume of the part."""
+        return (self.watertight and self.consistent_winding and self.degenerate_faces == 0
+                and abs(self.volume_mm3 - self.expected_volume_mm3) <= self.volume_allowance_mm3)
+
+
+def expected_volume(analysis: Analysis, plate: Plate) -> tuple[float, float]:
+    """The plate's volume (mm³) from its exact hole areas and its outline's area, and the
+    allowance for the tolerance along every contour (mm³)."""
+    geom, cam = analysis.geometry, analysis.design.cam
+    assert geom is not None and cam.thickness is not None
+    area = geom.profile.area - sum(p.area for p in plate.holes.profiles)
+    area -= sum(math.pi * r * r for r in plate.holes.circles)
+    chains = [geom.profile.vertices, *hole_points(plate.holes, geom.tolerance)]
+    length = sum(float(np.hypot(*(np.roll(c, -1, axis=0) - c).T).sum()) for c in chains)
+    tolerance = analysis.design.manufacturing.tolerance
+    return area * cam.thickness, tolerance * length * cam.thickness
+
+
+def check_stl(data: bytes, expected_mm3: float, allowance_mm3: float) -> StlCheck:
+    """Read *data* back as a binary STL and check it (see :class:`StlCheck`)."""
+    import trimesh
+
+    mesh = trimesh.load(io.BytesIO(data), file_type="stl", force="mesh")
+    assert isinstance(mesh, trimesh.Trimesh)
+    return StlCheck(
+        faces=len(mesh.faces),
+        watertight=bool(mesh.is_watertight),
+        consistent_winding=bool(mesh.is_winding_consistent),
+        degenerate_faces=int(np.count_nonzero(mesh.area_faces <= DEGENERATE_AREA_MM2)),
+        volume_mm3=float(mesh.volume),
+        expected_volume_mm3=expected_mm3,
+        volume_allowance_mm3=allowance_mm3,
+    )
