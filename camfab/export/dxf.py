@@ -149,12 +149,14 @@ def _strip_volatile(text: str) -> str:
 
 def read_cut_outline(data: bytes, mm_per_unit: float) -> Profile:
     """The largest closed contour on layer CUT of a DXF (the cam outline), in mm: its lines,
-    arcs and polylines chained into loops by ezdxf's edge miner, as a reader of the file would."""
-    import ezdxf
+    arcs and polylines read by ezdxf's streaming reader and chained into loops by its edge
+    miner, as a reader of the file would."""
     from ezdxf import edgeminer, edgesmith
+    from ezdxf.addons import iterdxf
 
-    doc = ezdxf.read(io.StringIO(data.decode("utf-8")))
-    entities = doc.modelspace().query('LINE ARC LWPOLYLINE[layer=="CUT"]')
+    entities = [e for e in iterdxf.single_pass_modelspace(io.BytesIO(data),
+                                                          types=["LINE", "ARC", "LWPOLYLINE"])
+                if e.dxf.layer == "CUT"]
     edges = list(edgesmith.edges_from_entities_2d(entities))
     best: Profile | None = None
     for loop in edgeminer.find_all_loops(edgeminer.Deposit(edges)):

@@ -14,7 +14,6 @@ import math
 import numpy as np
 
 from camfab.arrays import Array
-from camfab.geometry.curves import cross
 from camfab.geometry.profile import Profile
 
 #: The longest arc written (rad): a quarter circle. Longer arcs are ill-conditioned where a file
@@ -29,31 +28,32 @@ STRAIGHT = 1e-9
 def _arc_error(points: Array, start: int, end: int) -> tuple[float, float]:
     """The largest distance (mm) of points[start..end] from the arc through the ends and the
     middle point, and that arc's bulge (0 for a line)."""
-    p0, p1 = points[start], points[end]
-    mid = points[(start + end) // 2]
+    x0, y0 = points[start]
+    x1, y1 = points[end]
+    xm, ym = points[(start + end) // 2]
     inner = points[start:end + 1]
-    chord = p1 - p0
-    length = math.hypot(*chord)
+    cx, cy = x1 - x0, y1 - y0
+    length = math.hypot(cx, cy)
     if length == 0.0:
         return math.inf, 0.0
-    turn = float(cross((mid - p0)[None], (p1 - mid)[None])[0])
-    sagitta = abs(float(cross(chord[None], (mid - p0)[None])[0])) / length
+    ax, ay = xm - x0, ym - y0
+    sagitta = abs(cx * ay - cy * ax) / length
     if sagitta <= STRAIGHT * length or end - start < 2:
         # a line: distance of the points from the chord
-        rel = inner - p0
-        off = np.abs(rel[:, 0] * chord[1] - rel[:, 1] * chord[0]) / length
+        off = np.abs((inner[:, 0] - x0) * cy - (inner[:, 1] - y0) * cx) / length
         return float(off.max()), 0.0
+    turn = ax * (y1 - ym) - ay * (x1 - xm)
     # circle through p0, mid, p1
-    a, b = mid - p0, p1 - p0
-    d = 2.0 * (a[0] * b[1] - a[1] * b[0])
-    ux = (b[1] * (a @ a) - a[1] * (b @ b)) / d
-    uy = (a[0] * (b @ b) - b[0] * (a @ a)) / d
-    centre = p0 + np.array([ux, uy])
+    d = 2.0 * (ax * cy - ay * cx)
+    a2, b2 = ax * ax + ay * ay, cx * cx + cy * cy
+    ux = (cy * a2 - ay * b2) / d
+    uy = (ax * b2 - cx * a2) / d
     radius = math.hypot(ux, uy)
-    error = float(np.max(np.abs(np.hypot(*(inner - centre).T) - radius)))
+    error = float(np.max(np.abs(np.hypot(inner[:, 0] - (x0 + ux), inner[:, 1] - (y0 + uy))
+                                - radius)))
     # the points must also run along the arc the bulge describes (not around the far side)
-    sweep = math.atan2(float(cross((p0 - centre)[None], (p1 - centre)[None])[0]),
-                       float((p0 - centre) @ (p1 - centre)))
+    sx, sy, ex, ey = -ux, -uy, x1 - x0 - ux, y1 - y0 - uy
+    sweep = math.atan2(sx * ey - sy * ex, sx * ex + sy * ey)
     if turn * sweep < 0 or abs(sweep) > MAX_SWEEP:  # too long an arc (or the long way round)
         return math.inf, 0.0
     return error, math.tan(sweep / 4.0)

@@ -21,6 +21,10 @@ from camfab.geometry.sampling import arc_points
 #: above the rounding of coordinates of cams up to metres in size.
 MERGE_DISTANCE = 1e-9
 
+#: Points measured at once by :meth:`Profile.distance`: the (points × pieces) arrays of a
+#: block stay in the processor's cache.
+_BLOCK = 512
+
 
 @dataclass(frozen=True)
 class Arcs:
@@ -90,32 +94,38 @@ class Profile:
         return Arcs(index, centre, radius, np.arctan2(rel[:, 1], rel[:, 0]), sweep)
 
     def distance(self, points: Array) -> Array:
-        """Distance (mm) of each of (K, 2) *points* from the contour, arcs measured as arcs."""
+        """Distance (mm) of each of (K, 2) *points* from the contour, arcs measured as arcs.
+
+        The nearest point of the contour is a vertex, the foot of a perpendicular inside a
+        line, or the radial projection inside an arc's span; each kind is measured for all
+        pieces at once, a block of points at a time.
+        """
+        return np.concatenate([self._distance(points[i:i + _BLOCK])
+                               for i in range(0, len(points), _BLOCK)] or [np.zeros(0)])
+
+    def _distance(self, points: Array) -> Array:
         v = self.vertices
-        nxt = np.roll(v, -1, axis=0)
+        px, py = points[:, :1], points[:, 1:]
+        best = np.min((px - v[:, 0]) ** 2 + (py - v[:, 1]) ** 2, axis=1)
         line = self.bulges == 0.0
-        a, b = v[line], nxt[line]
-        d = b - a
-        rel = points[:, None, :] - a[None, :, :]
-        t = np.clip(np.einsum("kij,ij->ki", rel, d) / np.maximum(np.einsum("ij,ij->i", d, d),
-                                                                   1e-300), 0.0, 1.0)
-        foot = a[None] + t[..., None] * d[None]
-        best = np.full(len(points), np.inf)
         if line.any():
-            best = np.min(np.hypot(*(points[:, None, :] - foot).transpose(2, 0, 1)), axis=1)
+            ax, ay = v[line, 0], v[line, 1]
+            dx, dy = (np.roll(v, -1, axis=0)[line] - v[line]).T
+            length2 = np.maximum(dx * dx + dy * dy, 1e-300)
+            rx, ry = px - ax, py - ay
+            t = (rx * dx + ry * dy) / length2
+            across = (rx * dy - ry * dx) ** 2 / length2
+            best = np.minimum(best, np.min(np.where((t > 0) & (t < 1), across, np.inf), axis=1))
+        best = np.sqrt(best)
         arcs = self.arcs()
         if arcs.index.size:
-            rel = points[:, None, :] - arcs.centre[None]
-            radius = np.hypot(rel[..., 0], rel[..., 1])
-            angle = np.arctan2(rel[..., 1], rel[..., 0])
-            from_start = np.where(arcs.sweep > 0, angle - arcs.start_angle,
-                                  arcs.start_angle - angle)
-            inside = np.mod(from_start, 2 * np.pi) <= np.abs(arcs.sweep)
-            ends = np.minimum(
-                np.hypot(*(points[:, None, :] - v[arcs.index][None]).transpose(2, 0, 1)),
-                np.hypot(*(points[:, None, :] - nxt[arcs.index][None]).transpose(2, 0, 1)))
-            to_arc = np.where(inside, np.abs(radius - arcs.radius), ends)
-            best = np.minimum(best, to_arc.min(axis=1))
+            rx, ry = px - arcs.centre[:, 0], py - arcs.centre[:, 1]
+            sx, sy = np.cos(arcs.start_angle), np.sin(arcs.start_angle)
+            # the angle from the arc's start to the point, turning the way the arc turns
+            turn = np.arctan2(sx * ry - sy * rx, sx * rx + sy * ry) * np.sign(arcs.sweep)
+            inside = np.mod(turn, 2 * np.pi) <= np.abs(arcs.sweep)
+            gap = np.abs(np.hypot(rx, ry) - arcs.radius)
+            best = np.minimum(best, np.min(np.where(inside, gap, np.inf), axis=1))
         return best
 
     def points(self, tolerance: float) -> Array:
