@@ -6,9 +6,9 @@ A build (DXF, SVG, STL, report JSON, motion CSV, and the verification that reads
 STL back) runs as ``camfab build DESIGN`` in a fresh process, as a user runs it. The floor is a
 bare ``python -c "import …"`` of exactly the third-party imports camfab's code makes during that
 build (``import numpy``, ``from pydantic import BaseModel, …``), found by watching the build.
-camfab's modules are byte-compiled first, as ``pip install`` leaves them. Both run alternately, N times each, and the medians
-are compared; the targets are a build under 1.5 s and under 1.3× the floor (the computation and
-the writing cost less than a third of the import floor).
+camfab's modules are byte-compiled first, as ``pip install`` leaves them. Both run alternately,
+N times each, and the medians are compared; the targets are a build under 1.5 s and under 1.3×
+the floor (the computation and the writing cost less than a third of the import floor).
 """
 
 from __future__ import annotations

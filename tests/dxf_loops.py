@@ -36,9 +36,12 @@ def loops(doc, layer: str, sagitta: float = 1e-5) -> list[np.ndarray]:  # type: 
     return sorted(out, key=lambda c: -shapely.Polygon(c).area)
 
 
-def loop_edge_count(doc, layer: str) -> tuple[int, int]:  # type: ignore[no-untyped-def]
-    """(LINE and ARC entities on *layer*, those of them in a closed loop)."""
+def loop_sizes(doc, layer: str) -> tuple[int, list[int]]:  # type: ignore[no-untyped-def]
+    """(LINE and ARC entities on *layer*, the entities of each closed loop, largest loop
+    first)."""
     entities = doc.modelspace().query(f'LINE ARC[layer=="{layer}"]')
     edges = list(edgesmith.edges_from_entities_2d(entities))
     found = edgeminer.find_all_loops(edgeminer.Deposit(edges))
-    return len(entities), sum(len(loop) for loop in found)
+    area = [abs(edgesmith.loop_area(loop)) for loop in found]
+    return len(entities), [len(loop) for _, loop in sorted(zip(area, found, strict=True),
+                                                           key=lambda x: -x[0])]

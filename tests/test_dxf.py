@@ -16,7 +16,7 @@ from camfab.design import design_from_text, load_design
 from camfab.pipeline import analyse, render
 
 from .conftest import DESIGN_FILES, DESIGNS, run_cli
-from .dxf_loops import loop_edge_count, loops
+from .dxf_loops import loop_sizes, loops
 
 DISC = [p for p in DESIGN_FILES if load_design(p).cam.type == "disc"]
 
@@ -30,6 +30,13 @@ def hole_area(bore: float, keyway: tuple[float, float] | None) -> float:
         half, top = keyway[0] / 2, r + keyway[1]
         area += 2 * half * top - (half * np.sqrt(r * r - half * half) + r * r * np.arcsin(half / r))
     return float(area)
+
+
+def kerf_curve(design, geom) -> np.ndarray:  # type: ignore[no-untyped-def]
+    """The exact working curve moved kerf/2 outward along its normal (itself without a kerf)."""
+    working = geom.dense.working
+    outward = geom.cam.sigma * np.stack((-working.tangent[:, 1], working.tangent[:, 0]), -1)
+    return working.xy + design.manufacturing.kerf / 2 * outward
 
 
 def built(path: Path):  # type: ignore[no-untyped-def]
@@ -53,10 +60,11 @@ def test_dxf_structure_and_accuracy(path: Path) -> None:
     cut = msp.query('*[layer=="CUT"]')
     assert {e.dxftype() for e in cut} <= {"LWPOLYLINE", "CIRCLE", "LINE", "ARC"}
     # every line and arc is part of a closed contour
-    count, in_loops = loop_edge_count(doc, "CUT")
-    assert in_loops == count
+    count, sizes = loop_sizes(doc, "CUT")
+    assert sum(sizes) == count
     # few entities: arcs, not thousands of tiny segments
-    assert report["verification"]["cut_outline_entities"] < 120
+    # the verification read every entity of the outline back
+    assert report["verification"]["cut_outline_entities"] == sizes[0] < 120
     # flattened by ezdxf to 1e-5 of the file unit: simple, and within the tolerance of the exact
     # working curve
     scale = design.mm_per_unit
@@ -69,7 +77,7 @@ def test_dxf_structure_and_accuracy(path: Path) -> None:
     verification = report["verification"]
     assert verification["checked_on"].startswith("CUT outline read back")
     if not geom.undercut:
-        exact = shapely.points(geom.dense.working.xy)
+        exact = shapely.points(kerf_curve(design, geom))
         assert float(np.max(shapely.distance(ring, exact))) <= tolerance
         assert verification["max_lift_error_mm"] <= tolerance
         assert verification["cut_outline_max_deviation_mm"] <= tolerance
@@ -155,7 +163,7 @@ def test_svg_outline_at_true_size(path: Path) -> None:
     geom = analysis.geometry
     assert geom is not None
     if not geom.undercut:
-        exact = shapely.points(geom.dense.working.xy)
+        exact = shapely.points(kerf_curve(design, geom))
         # the reader samples its arcs: allow for that sampling on top of the tolerance
         assert float(np.max(shapely.distance(ring, exact))) <= design.manufacturing.tolerance * 1.2
     if design.cam.bore is not None and design.cam.keyway is None:

@@ -84,14 +84,16 @@ def render_dxf(analysis: Analysis, plate: Plate) -> bytes:
     for name, (colour, linetype) in LAYERS.items():
         doc.layers.add(name, color=colour, linetype=linetype)
     msp = doc.modelspace()
-    _add_contours(msp, plate.cut, scale, "CUT")
-    if plate.toolpath is not None:
-        _add_contours(msp, plate.toolpath, scale, "TOOLPATH")
+    # references first, what is cut last: drawn on top where they coincide (a knife's pitch
+    # curve is its profile)
     _add_contour(msp, fit_arcs(geom.pitch.xy, geom.tolerance), scale, "PITCH")
     msp.add_circle((0.0, 0.0), geom.cam.base_radius * scale, dxfattribs={"layer": "BASE"})
     if geom.cam.prime_radius != geom.cam.base_radius:
         msp.add_circle((0.0, 0.0), geom.cam.prime_radius * scale, dxfattribs={"layer": "PRIME"})
     _add_marks(msp, analysis, scale, plate)
+    if plate.toolpath is not None:
+        _add_contours(msp, plate.toolpath, scale, "TOOLPATH")
+    _add_contours(msp, plate.cut, scale, "CUT")
     stream = io.StringIO()
     doc.write(stream)
     return _strip_volatile(stream.getvalue()).encode("utf-8")
@@ -118,10 +120,11 @@ def _add_marks(msp: Any, analysis: Analysis, scale: float, plate: Plate) -> None
     if cutter > 0.0:
         lines.append(f"TOOLPATH: centre of a cutter of radius {cutter * scale:.4g} {unit}")
     height = max(rb * scale * 0.06, 1e-3)
-    left = -float(np.max(np.abs(geom.profile.vertices[:, 0]))) * scale
-    low = float(np.min(geom.profile.vertices[:, 1])) * scale - 1.5 * height
-    if plate.toolpath is not None:
-        low -= cutter * scale
+    # below everything drawn: the profile, the pitch curve and the toolpath around them
+    drawn = np.vstack((geom.profile.vertices, geom.pitch.xy))
+    margin = max(cutter, plate.kerf)
+    left = (float(np.min(drawn[:, 0])) - margin) * scale
+    low = (float(np.min(drawn[:, 1])) - margin) * scale - 1.5 * height
     for row, line in enumerate(lines, start=1):
         msp.add_text(line, height=height, dxfattribs={"layer": "NOTE"}).set_placement(
             (left, low - 1.6 * row * height))
@@ -149,14 +152,14 @@ def _strip_volatile(text: str) -> str:
 
 def read_cut_outline(data: bytes, mm_per_unit: float) -> Profile:
     """The largest closed contour on layer CUT of a DXF (the cam outline), in mm: its lines,
-    arcs and polylines read by ezdxf's streaming reader and chained into loops by its edge
-    miner, as a reader of the file would."""
+    arcs and polylines read by ezdxf and chained into loops by its edge miner, as a reader of
+    the file would. (Not ezdxf's streaming reader: ``iterdxf.single_pass_modelspace`` of ezdxf
+    1.4 drops the last entity of the section.)"""
+    import ezdxf
     from ezdxf import edgeminer, edgesmith
-    from ezdxf.addons import iterdxf
 
-    entities = [e for e in iterdxf.single_pass_modelspace(io.BytesIO(data),
-                                                          types=["LINE", "ARC", "LWPOLYLINE"])
-                if e.dxf.layer == "CUT"]
+    doc = ezdxf.read(io.StringIO(data.decode("utf-8")))
+    entities = doc.modelspace().query('LINE ARC LWPOLYLINE[layer=="CUT"]')
     edges = list(edgesmith.edges_from_entities_2d(entities))
     best: Profile | None = None
     for loop in edgeminer.find_all_loops(edgeminer.Deposit(edges)):
