@@ -33,8 +33,9 @@ class Verification:
     """The follower run over the CUT outline read back from the written DXF, and the STL read
     back (when one is made).
 
-    ``deviation_mm`` is the largest distance of the exact working curve from that outline (None
-    for an undercut cam, whose outline is the trimmed one on purpose).
+    ``deviation_mm`` is the largest distance of the exact working curve (offset kerf/2 outward
+    with a kerf) from that outline (None for an undercut cam, whose outline is the trimmed one
+    on purpose).
     """
 
     lift: LiftCheck

@@ -1,7 +1,7 @@
 """``NAME.dxf``: the cam plate for laser and CNC (SPEC §5), written with ezdxf.
 
-Everything to be cut is on layer ``CUT`` as closed LWPOLYLINEs of lines and arcs (bulges) or
-CIRCLEs — never SPLINE — in the design's units with ``$INSUNITS`` set: the plate's contours,
+Everything to be cut is on layer ``CUT`` as closed chains of LINE and ARC entities, or CIRCLEs —
+never SPLINE — in the design's units with ``$INSUNITS`` set: the plate's contours,
 kerf-compensated when the design gives a kerf. The outline is the tolerance-sampled profile fitted
 with arcs, so each contour holds tens of entities, not thousands of tiny segments. Reference
 geometry goes on ``PITCH``, ``BASE``, ``PRIME``, ``TOOLPATH`` (a milling cutter's centre path),

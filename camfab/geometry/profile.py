@@ -133,7 +133,7 @@ class Profile:
         point: its arcs cut into chords within *tolerance* (mm), and its lines into pieces no
         longer than those chords, so the chain samples lines as finely as arcs (an arc fit of
         the chain, after an offset say, then cannot bow away from a long line between two of
-        its points)."""
+        its points). A contour of lines only gives its vertices."""
         arcs = self.arcs()
         if not arcs.index.size:
             return self.vertices.copy()
