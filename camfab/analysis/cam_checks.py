@@ -28,7 +28,7 @@ class Extreme:
     at_deg: float | None
 
 
-def _extreme(theta: Array, values: Array, mask: Mask | None = None, *,
+def extreme(theta: Array, values: Array, mask: Mask | None = None, *,
              largest: bool) -> Extreme:
     picked = np.isfinite(values) if mask is None else (mask & np.isfinite(values))
     if not picked.any():
@@ -59,7 +59,7 @@ def cam_numbers(geom: DiscGeometry, segment_count: int) -> CamNumbers:
     theta = dense.theta
     rp, rw = dense.pitch.radius, dense.working.radius
     phi = np.degrees(np.abs(dense.pressure_angle))
-    per_segment = [_extreme(theta, phi, dense.segment == i, largest=True)
+    per_segment = [extreme(theta, phi, dense.segment == i, largest=True)
                    for i in range(segment_count)]
     contact = None
     if dense.face_contact is not None:
@@ -68,12 +68,12 @@ def cam_numbers(geom: DiscGeometry, segment_count: int) -> CamNumbers:
                       *ranges_deg(geom.working.theta, geom.cut)])
     return CamNumbers(
         max_radius_mm=float(np.max(geom.profile.radii())),
-        pitch_min_convex=_extreme(theta, rp, rp > 0, largest=False),
-        pitch_min_concave=_extreme(theta, -rp, rp < 0, largest=False),
-        profile_min_convex=_extreme(theta, rw, rw > 0, largest=False),
+        pitch_min_convex=extreme(theta, rp, rp > 0, largest=False),
+        pitch_min_concave=extreme(theta, -rp, rp < 0, largest=False),
+        profile_min_convex=extreme(theta, rw, rw > 0, largest=False),
         # the raw envelope's loops run backwards (ρ < 0) but are cut away: not concave parts
-        profile_min_concave=_extreme(theta, -rw, (rw < 0) & ~geom.folds, largest=False),
-        pressure_angle=_extreme(theta, phi, largest=True),
+        profile_min_concave=extreme(theta, -rw, (rw < 0) & ~geom.folds, largest=False),
+        pressure_angle=extreme(theta, phi, largest=True),
         segment_pressure=per_segment,
         face_contact_mm=contact,
         undercut_ranges=undercut,
@@ -93,7 +93,7 @@ def _fmt(value: float) -> str:
     return f"{value:.4g}"
 
 
-def _where(ranges: tuple[Range, ...]) -> str:
+def where(ranges: tuple[Range, ...]) -> str:
     if not ranges:
         return "a point too small to resolve"
     return ", ".join(f"{_fmt(a)}°" if _fmt(a) == _fmt(b) else f"{_fmt(a)}°–{_fmt(b)}°"
@@ -121,7 +121,7 @@ def pressure_angle_finding(design: Design, geom: DiscGeometry, numbers: CamNumbe
     return Finding(
         "pressure_angle", False, "error",
         f"pressure angle reaches {_fmt(value)}° at {_fmt(worst.at_deg or 0.0)}°, over the limit "
-        f"{_fmt(limit)}° at {_where(over)}: {advice}",
+        f"{_fmt(limit)}° at {where(over)}: {advice}",
         value, limit, "deg", over)
 
 
@@ -132,7 +132,7 @@ def undercut_finding(design: Design, geom: DiscGeometry, numbers: CamNumbers) ->
     motion = (f"the cam that is really cut moves the follower up to "
               f"{_fmt(geom.lift.max_mm)} mm off the design at {_fmt(geom.lift.at_deg)}°")
     if fol.type == "flat":
-        worst = numbers.profile_min_convex if not geom.folds.any() else _extreme(
+        worst = numbers.profile_min_convex if not geom.folds.any() else extreme(
             geom.dense.theta, geom.dense.working.radius, largest=False)
         value = worst.value
         if not geom.undercut:
@@ -147,27 +147,27 @@ def undercut_finding(design: Design, geom: DiscGeometry, numbers: CamNumbers) ->
         rho = "ρ" if fol.oscillating else "ρ = Rb + s + s″"
         return Finding("undercut", False, "error",
                        f"the flat face's envelope has a cusp (its radius of curvature {rho} falls "
-                       f"to {_fmt(value or 0.0)} mm) at {_where(ranges)}: {motion}{need}",
+                       f"to {_fmt(value or 0.0)} mm) at {where(ranges)}: {motion}{need}",
                        value, 0.0, "mm", ranges)
     radius = fol.trace_radius
     smallest = numbers.pitch_min_convex
     value = smallest.value
     if not geom.undercut:
-        where = f" at {_fmt(smallest.at_deg or 0.0)}°" if value is not None else ""
+        at = f" at {_fmt(smallest.at_deg or 0.0)}°" if value is not None else ""
         shape = {"knife": "knife edge", "roller": "roller", "mushroom": "mushroom face"}[fol.type]
         return Finding("undercut", True, "error",
-                       f"the pitch curve's smallest convex radius {_fmt(value or 0.0)} mm{where} "
+                       f"the pitch curve's smallest convex radius {_fmt(value or 0.0)} mm{at} "
                        f"is larger than the {shape} radius {_fmt(radius)} mm", value, radius,
                        "mm")
     what = "roller" if fol.type == "roller" else "mushroom face"
     if geom.folds.any() and value is not None:
         cause = (f"the {what} radius {_fmt(radius)} mm exceeds the pitch curve's convex radius "
-                 f"of curvature (down to {_fmt(value)} mm) at {_where(ranges)}: the envelope "
+                 f"of curvature (down to {_fmt(value)} mm) at {where(ranges)}: the envelope "
                  f"folds over and is cut away")
         need = (f"a {what} radius below {_fmt(value)} mm, a larger base radius or a longer rise "
                 f"or return avoids it")
     else:
-        cause = (f"the {what}'s envelope crosses itself at {_where(ranges)}: the {what} cannot "
+        cause = (f"the {what}'s envelope crosses itself at {where(ranges)}: the {what} cannot "
                  f"reach into a sharp hollow of the pitch curve (a velocity step makes one)")
         need = "a motion law without a velocity step or a smaller radius avoids it"
     return Finding("undercut", False, "error", f"{cause}; {motion}; {need}",
@@ -187,7 +187,7 @@ def curvature_finding(design: Design, geom: DiscGeometry, numbers: CamNumbers) -
     message = (f"smallest convex radius of the profile {_fmt(value or 0.0)} mm at "
                f"{_fmt(smallest.at_deg or 0.0)}°, "
                + (f"at least {_fmt(margin)} mm" if ok else
-                  f"below the required {_fmt(margin)} mm at {_where(low)}"))
+                  f"below the required {_fmt(margin)} mm at {where(low)}"))
     return Finding("curvature", ok, "error", message, value, margin, "mm", low)
 
 
@@ -203,18 +203,18 @@ def face_width_finding(design: Design, numbers: CamNumbers) -> Finding | None:
     low, high = numbers.face_contact_mm
     if fol.oscillating:
         needed = high - low
-        where = f"from {_fmt(low)} to {_fmt(high)} mm along the face from the pivot's foot"
+        span = f"from {_fmt(low)} to {_fmt(high)} mm along the face from the pivot's foot"
     else:
         needed = 2.0 * max(abs(low), abs(high))
-        where = f"from {_fmt(low)} to {_fmt(high)} mm of the stem axis"
+        span = f"from {_fmt(low)} to {_fmt(high)} mm of the stem axis"
     if fol.face_width is None:
         return Finding("face_width", True, "error",
-                       f"contact runs {where}: the face must be at least {_fmt(needed)} mm wide",
+                       f"contact runs {span}: the face must be at least {_fmt(needed)} mm wide",
                        needed, None, "mm")
     ok = fol.face_width >= needed
     verdict = "covers it" if ok else "is too narrow: the cam edge would dig into the face"
     return Finding("face_width", ok, "error",
-                   f"contact runs {where}, needing a face {_fmt(needed)} mm wide; the face of "
+                   f"contact runs {span}, needing a face {_fmt(needed)} mm wide; the face of "
                    f"{_fmt(fol.face_width)} mm {verdict}", needed, fol.face_width, "mm")
 
 
@@ -245,9 +245,9 @@ def cutter_finding(design: Design, geom: DiscGeometry, numbers: CamNumbers) -> F
     on_part[index] = on_outline(part, dense.working.xy[index], 2.0 * tol)
     tight &= on_part
     deep &= on_part
-    where = ranges_deg(dense.theta, tight | deep)
+    spots = ranges_deg(dense.theta, tight | deep)
     smallest = numbers.profile_min_concave
-    if not where:
+    if not spots:
         shape = (f"smallest concave radius {_fmt(smallest.value)} mm at "
                  f"{_fmt(smallest.at_deg or 0.0)}°" if smallest.value is not None
                  else "the profile has no concave part")
@@ -265,10 +265,10 @@ def cutter_finding(design: Design, geom: DiscGeometry, numbers: CamNumbers) -> F
     milled = lift_check(geom.cam, design.program, Profile.from_points(closed))
     return Finding(
         "cutter", False, "error",
-        f"a cutter of radius {_fmt(radius)} mm cannot follow the profile at {_where(where)}: "
+        f"a cutter of radius {_fmt(radius)} mm cannot follow the profile at {where(spots)}: "
         f"{cause}; it leaves up to {_fmt(float(depth.max()))} mm of material there, and the cam "
         f"as milled moves the follower up to {_fmt(milled.max_mm)} mm off the design at "
-        f"{_fmt(milled.at_deg)}°; {advice}", value, radius, "mm", where)
+        f"{_fmt(milled.at_deg)}°; {advice}", value, radius, "mm", spots)
 
 
 def cam_findings(design: Design, geom: DiscGeometry,

@@ -129,17 +129,10 @@ class DiscGeometry:
 
 def dense_curves(cam: DiscCam, program: MotionProgram, step: float = ANALYSIS_STEP) -> DenseCurves:
     """The exact curves at every *step* of cam angle, segment by segment."""
-    parts_theta, parts_seg, parts_m = [], [], []
-    for seg in program.segments:
-        t = np.linspace(0.0, seg.span, max(3, math.ceil(seg.span / step) + 1))
-        parts_theta.append(seg.start + t)
-        parts_seg.append(np.full(t.size, seg.index))
-        parts_m.append(seg.evaluate_local(t))
-    theta = np.concatenate(parts_theta)
-    motion = np.concatenate(parts_m, axis=1)
+    segment, theta, motion = program.segment_grid(step)
     lines = cam.face_lines(theta, motion) if cam.follower.flat else None
     contact = None if lines is None else cam.face_contact(theta, motion, lines)
-    return DenseCurves(np.concatenate(parts_seg), theta, motion, cam.pitch(theta, motion),
+    return DenseCurves(segment, theta, motion, cam.pitch(theta, motion),
                        cam.working(theta, motion, lines),
                        cam.pressure_angle(theta, motion, lines), lines, contact)
 

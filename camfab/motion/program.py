@@ -17,6 +17,7 @@ from typing import Any, Protocol
 import numpy as np
 from numpy.typing import ArrayLike
 
+from camfab.arrays import Index
 from camfab.motion.law import Array, Law
 from camfab.motion.laws import DWELL, standard_law
 from camfab.motion.polynomial import Condition, SingularConditionsError, solve_polynomial
@@ -125,6 +126,19 @@ class MotionProgram:
     def __init__(self, segments: Sequence[ProgramSegment]) -> None:
         self.segments = tuple(segments)
         self._starts = np.array([seg.start for seg in self.segments])
+
+    def segment_grid(self, step: float) -> tuple[Index, Array, Array]:
+        """Cam angles at most *step* (rad) apart, segment by segment with both ends of each
+        (so a joint appears twice, with each segment's one-sided values): the segment index
+        and angle (N,) and s, s′, s″, s‴ there (4, N)."""
+        parts_theta, parts_seg, parts_m = [], [], []
+        for seg in self.segments:
+            t = np.linspace(0.0, seg.span, max(3, math.ceil(seg.span / step) + 1))
+            parts_theta.append(seg.start + t)
+            parts_seg.append(np.full(t.size, seg.index))
+            parts_m.append(seg.evaluate_local(t))
+        return (np.concatenate(parts_seg), np.concatenate(parts_theta),
+                np.concatenate(parts_m, axis=1))
 
     def evaluate(self, theta: ArrayLike) -> Array:
         """s, s′, s″, s‴ at cam angles *theta* (rad, any value: wrapped to one turn).

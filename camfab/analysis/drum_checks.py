@@ -1,0 +1,108 @@
+"""Checks of a drum cam's groove: pressure angle (judged at the floor, where it is steepest) and
+the developed curvature the roller must follow (the ``groove`` check).
+
+Lengths are millimetres and angles degrees in the findings.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from camfab.analysis.cam_checks import Extreme, extreme, where
+from camfab.analysis.findings import Finding
+from camfab.analysis.ranges import ranges_deg
+from camfab.design import Design
+from camfab.geometry.drum import DrumDense
+
+
+@dataclass(frozen=True)
+class DrumNumbers:
+    """The key numbers of a drum cam (mm, deg): the pressure angle at the floor, the mean
+    (pitch) and the outer radius, the floor's per segment, and the smallest developed radius of
+    curvature of the pitch curve anywhere in the groove (and at which radius)."""
+
+    root_pressure: Extreme
+    pitch_pressure: Extreme
+    outer_pressure: Extreme
+    segment_pressure: list[Extreme]
+    min_developed_radius: Extreme
+    min_developed_radius_at_mm: float | None
+
+
+def drum_numbers(dense: DrumDense, segment_count: int) -> DrumNumbers:
+    """Extremes of pressure angle and developed curvature."""
+    theta = dense.theta
+    phi = np.degrees(np.abs(dense.pressure_angle))
+    pitch = np.degrees(np.abs(dense.drum.pressure_angle(dense.motion[1], dense.drum.pitch)))
+    size = np.abs(dense.developed_radius)
+    row, col = np.unravel_index(int(np.argmin(size)), size.shape)
+    smallest = (Extreme(None, None) if not np.isfinite(size[row, col]) else
+                Extreme(float(size[row, col]), math.degrees(float(theta[col]))))
+    return DrumNumbers(
+        root_pressure=extreme(theta, phi[0], largest=True),
+        pitch_pressure=extreme(theta, pitch, largest=True),
+        outer_pressure=extreme(theta, phi[-1], largest=True),
+        segment_pressure=[extreme(theta, phi[0], dense.segment == i, largest=True)
+                          for i in range(segment_count)],
+        min_developed_radius=smallest,
+        min_developed_radius_at_mm=None if smallest.value is None else float(dense.radii[row]),
+    )
+
+
+def _fmt(value: float) -> str:
+    return f"{value:.4g}"
+
+
+def drum_pressure_finding(design: Design, dense: DrumDense, numbers: DrumNumbers) -> Finding:
+    """|φ| at the groove's floor (tan φ = s′/r, steepest at the smallest radius) against
+    ``limits.pressure_angle``."""
+    limit = math.degrees(design.pressure_angle_limit)
+    root = numbers.root_pressure
+    value = root.value or 0.0
+    over = ranges_deg(dense.theta, np.degrees(np.abs(dense.pressure_angle[0])) > limit)
+    also = (f"(at the pitch radius {_fmt(numbers.pitch_pressure.value or 0.0)}°, at the surface "
+            f"{_fmt(numbers.outer_pressure.value or 0.0)}°)")
+    if not over:
+        return Finding("pressure_angle", True, "error",
+                       f"largest pressure angle at the groove's floor {_fmt(value)}° at "
+                       f"{_fmt(root.at_deg or 0.0)}° {also}, within the limit {_fmt(limit)}°",
+                       value, limit, "deg")
+    return Finding(
+        "pressure_angle", False, "error",
+        f"pressure angle at the groove's floor reaches {_fmt(value)}° at "
+        f"{_fmt(root.at_deg or 0.0)}° {also}, over the limit {_fmt(limit)}° at {where(over)}: "
+        f"the roller binds in the groove; a larger drum radius or a longer rise or return "
+        f"lowers it", value, limit, "deg", over)
+
+
+def groove_finding(design: Design, dense: DrumDense, numbers: DrumNumbers) -> Finding:
+    """Both walls must bend less sharply than the roller: |ρ(r)| of the developed pitch curve
+    above the roller radius (plus half the clearance) at every radius of the groove."""
+    roller = dense.drum.roller
+    tight = np.any(np.abs(dense.developed_radius) <= roller, axis=0)
+    ranges = ranges_deg(dense.theta, tight)
+    smallest = numbers.min_developed_radius
+    if smallest.value is None:
+        return Finding("groove", True, "error", "the groove runs straight round the drum",
+                       None, roller, "mm")
+    at = (f"{_fmt(smallest.value)} mm at {_fmt(smallest.at_deg or 0.0)}° (radius "
+          f"{_fmt(numbers.min_developed_radius_at_mm or 0.0)} mm)")
+    if not ranges:
+        return Finding("groove", True, "error",
+                       f"the developed groove's smallest radius of curvature {at} is larger than "
+                       f"the roller's {_fmt(roller)} mm", smallest.value, roller, "mm")
+    return Finding(
+        "groove", False, "error",
+        f"the developed groove bends tighter than the roller: its radius of curvature falls to "
+        f"{at}, under the roller's {_fmt(roller)} mm, at {where(ranges)}; the wall on the "
+        f"inside of the bend folds over and the roller cannot follow it: a larger drum radius, "
+        f"a longer segment or a smaller roller avoids it", smallest.value, roller, "mm", ranges)
+
+
+def drum_findings(design: Design, dense: DrumDense, numbers: DrumNumbers) -> list[Finding]:
+    """Every geometric check of a drum cam."""
+    return [drum_pressure_finding(design, dense, numbers),
+            groove_finding(design, dense, numbers)]
