@@ -131,8 +131,7 @@ def _build_one(path: str, out_dir: Path | None) -> Outcome:
                  f"{len(result.written)} file(s) to {result.folder}/"]
         lines += [f"  {p.name}" for p in result.written]
         if result.not_produced:
-            lines.append(f"  not produced by camfab {__version__}: "
-                         + ", ".join(result.not_produced))
+            lines.extend(f"  not produced: {item}" for item in result.not_produced)
         lines += [f"  {_mark(f)} {f.id}: {f.message}" for f in result.analysis.findings
                   if not f.ok]
         return Outcome(result.exit_code, out=lines)

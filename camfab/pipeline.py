@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from camfab import __version__
 from camfab.analysis.findings import Finding, exit_status
 from camfab.analysis.kinematics import MotionUnits, SegmentStats, continuity_findings, segment_stats
 from camfab.design import Design, load_design
@@ -21,28 +22,13 @@ from camfab.motion.program import MotionProgram
 
 if TYPE_CHECKING:
     from camfab.analysis.cam_checks import CamNumbers
-    from camfab.export.stl import StlCheck
-    from camfab.geometry.disc_geometry import DiscGeometry, LiftCheck
+    from camfab.analysis.drum_checks import DrumNumbers
+    from camfab.geometry.disc_geometry import DiscGeometry
+    from camfab.geometry.drum import DrumDense
+    from camfab.verification import Verification
 
 #: Every output a design may ask for, in the order files are listed.
 ALL_OUTPUTS = ("dxf", "svg", "stl", "report", "csv")
-
-
-@dataclass(frozen=True)
-class Verification:
-    """The follower run over the CUT outline read back from the written DXF, and the STL read
-    back (when one is made).
-
-    ``deviation_mm`` is the largest distance of the exact working curve (offset kerf/2 outward
-    with a kerf) from that outline (None for an undercut cam, whose outline is the trimmed one
-    on purpose).
-    """
-
-    lift: LiftCheck
-    source: str
-    entities: int
-    deviation_mm: float | None
-    stl: StlCheck | None = None
 
 
 @dataclass(frozen=True)
@@ -55,8 +41,9 @@ class Analysis:
     segments: list[SegmentStats]
     findings: list[Finding]
     geometry: DiscGeometry | None = None
-    numbers: CamNumbers | None = None
+    numbers: CamNumbers | DrumNumbers | None = None
     verification: Verification | None = None
+    drum: DrumDense | None = None
 
     @property
     def exit_code(self) -> int:
@@ -71,6 +58,14 @@ def analyse(design: Design) -> Analysis:
     omega = design.cam.omega
     findings, steps = continuity_findings(program, units, omega)
     stats = segment_stats(program, steps, units, omega)
+    if design.cam.type == "cylindrical":
+        from camfab.analysis.drum_checks import drum_findings, drum_numbers
+        from camfab.geometry.drum import drum, drum_dense
+
+        dense = drum_dense(drum(design), program)
+        drum_nums = drum_numbers(dense, len(program.segments))
+        findings = [*drum_findings(design, dense, drum_nums), *findings]
+        return Analysis(design, program, units, stats, findings, numbers=drum_nums, drum=dense)
     if design.cam.type != "disc":
         return Analysis(design, program, units, stats, findings)
     from camfab.analysis.cam_checks import cam_findings, cam_numbers
@@ -80,82 +75,6 @@ def analyse(design: Design) -> Analysis:
     numbers = cam_numbers(geometry, len(program.segments))
     findings = [*cam_findings(design, geometry, numbers), *findings]
     return Analysis(design, program, units, stats, findings, geometry, numbers)
-
-
-def verify_exports(analysis: Analysis,
-                   requested: tuple[str, ...] = ALL_OUTPUTS) -> tuple[Analysis, dict[str, bytes]]:
-    """Write the DXF in memory, read its CUT outline back and run the follower over it.
-
-    Returns the analysis with its :class:`Verification` and the *requested* plate files by output
-    name (``dxf``, ``svg``, ``stl``; none for cam types without a plate outline). The DXF is
-    made whether requested or not: the verification reads it. With a kerf, the part is the
-    outline as written less the kerf/2 the beam takes off, and the deviation is measured from
-    the exact working curve offset by kerf/2.
-    """
-    geom = analysis.geometry
-    if geom is None:
-        return analysis, {}
-    from dataclasses import replace
-
-    from camfab.export.dxf import read_cut_outline, render_dxf
-    from camfab.geometry.curves import offset_inward
-    from camfab.geometry.disc_geometry import lift_check
-    from camfab.geometry.plate import inside_kerf, plate
-
-    design = analysis.design
-    contours = plate(design, geom)
-    dxf = render_dxf(analysis, contours)
-    written = read_cut_outline(dxf, design.mm_per_unit)
-    part = written
-    source = f"CUT outline read back from {design.name}.dxf"
-    if contours.kerf > 0.0:
-        part = inside_kerf(written, contours.kerf, geom.tolerance)
-        source += f", less the kerf/2 of {contours.kerf / 2:.6g} mm the beam removes"
-    lift = lift_check(geom.cam, analysis.program, part)
-    deviation = None
-    if not geom.undercut:
-        exact = offset_inward(geom.dense.working, geom.cam.sigma, -contours.kerf / 2.0)
-        deviation = float(written.distance(exact.xy).max())
-    plates = {"dxf": dxf}
-    if "svg" in requested:
-        from camfab.export.svg import render_svg
-
-        plates["svg"] = render_svg(analysis, contours)
-    stl_check = None
-    if "stl" in requested:
-        from camfab.export.stl import check_stl, expected_volume, render_stl
-
-        stl = render_stl(analysis, contours)
-        if stl is not None:
-            plates["stl"] = stl
-            stl_check = check_stl(stl, *expected_volume(analysis, contours))
-    check = Verification(lift, source, len(written.vertices), deviation, stl_check)
-    findings = [*analysis.findings, verification_finding(analysis, check)]
-    return replace(analysis, verification=check, findings=findings), plates
-
-
-def verification_finding(analysis: Analysis, check: Verification) -> Finding:
-    """Do the files hold the design? The follower's lift over the written outline within the
-    tolerance (an undercut cam's error is the undercut finding's), and the STL closed, outward
-    and of the part's volume."""
-    tolerance = analysis.design.manufacturing.tolerance
-    geom = analysis.geometry
-    assert geom is not None
-    lift_ok = geom.undercut or check.lift.max_mm <= tolerance
-    parts = [f"the follower run over the CUT outline as written moves "
-             f"{check.lift.max_mm:.3g} mm at most from the design motion (at "
-             f"{check.lift.at_deg:.4g}°, tolerance {tolerance:.3g} mm)"]
-    stl = check.stl
-    if stl is not None:
-        shape = ("closed, outward, no degenerate face" if stl.watertight and
-                 stl.consistent_winding and stl.degenerate_faces == 0 else
-                 f"NOT a closed outward solid (watertight: {stl.watertight}, consistent "
-                 f"winding: {stl.consistent_winding}, degenerate faces: {stl.degenerate_faces})")
-        parts.append(f"the STL reads back {shape}, {stl.faces} faces, "
-                     f"{stl.volume_mm3:.6g} mm³ against the part's {stl.expected_volume_mm3:.6g}")
-    ok = lift_ok and (stl is None or stl.ok)
-    return Finding("verification", ok, "error", "; ".join(parts), check.lift.max_mm,
-                   tolerance, "mm")
 
 
 def _report_json(analysis: Analysis) -> bytes:
@@ -179,7 +98,8 @@ RENDERERS: dict[str, list[tuple[str, Callable[[Analysis], bytes]]]] = {
 
 @dataclass(frozen=True)
 class Artifacts:
-    """The files of one build, as bytes by file name, and the requested outputs not produced."""
+    """The files of one build, as bytes by file name, and the requested outputs not produced
+    (each with why)."""
 
     files: dict[str, bytes]
     not_produced: tuple[str, ...] = field(default_factory=tuple)
@@ -189,18 +109,24 @@ class Artifacts:
 def render(analysis: Analysis) -> Artifacts:
     """The bytes of every file the design asks for (all that apply by default), after the
     verification of the exported outline (which the report carries)."""
+    from camfab.verification import verify_exports
+
     requested = analysis.design.outputs or ALL_OUTPUTS
-    analysis, plates = verify_exports(analysis, requested)
+    analysis, exports = verify_exports(analysis, requested)
     files: dict[str, bytes] = {}
     missing = []
     for output in ALL_OUTPUTS:
         if output not in requested:
             continue
-        if output in plates:
-            files[f"{analysis.design.name}.{output}"] = plates[output]
+        if output in exports.files:
+            files[f"{analysis.design.name}.{output}"] = exports.files[output]
+            continue
+        if output in exports.withheld:
+            missing.append(f"{output} ({exports.withheld[output]})")
             continue
         if output not in RENDERERS:
-            missing.append(output)
+            missing.append(f"{output} (not built by camfab {__version__} for "
+                           f"{analysis.design.cam.type} cams)")
             continue
         for suffix, renderer in RENDERERS[output]:
             files[analysis.design.name + suffix] = renderer(analysis)

@@ -24,6 +24,8 @@ def _num(value: float | None, digits: int = 4) -> str:
 
 def print_summary(analysis: Analysis) -> None:
     """The design, its motion program with peak kinematics, and every check."""
+    from camfab.analysis.cam_checks import CamNumbers
+    from camfab.analysis.drum_checks import DrumNumbers
     from camfab.analysis.findings import count
 
     design, units = analysis.design, analysis.units
@@ -51,7 +53,15 @@ def print_summary(analysis: Analysis) -> None:
                       *(_num(v) for v in peaks), *extra)
     console.print(table)
     geom = analysis.geometry
-    if geom is not None and numbers is not None:
+    dense = analysis.drum
+    if dense is not None and isinstance(numbers, DrumNumbers):
+        d = dense.drum
+        console.print(
+            f"drum: radius {_num(d.radius)} mm, groove floor at {_num(d.root)} mm, "
+            f"{_num(2 * d.roller)} mm wide, roller centre at z = {_num(d.start)} mm at zero lift; "
+            f"pressure angle up to {_num(numbers.root_pressure.value)}° at the floor; developed "
+            f"groove's smallest radius of curvature {_num(numbers.min_developed_radius.value)} mm")
+    if geom is not None and isinstance(numbers, CamNumbers):
         convex = numbers.pitch_min_convex.value
         console.print(
             f"cam: base radius {_num(design.cam.base_radius)} mm, prime radius "

@@ -8,6 +8,9 @@ import numpy as np
 import shapely
 from ezdxf import edgeminer, edgesmith
 
+#: Ends closer than this (file units) meet: CAD programs join far wider gaps (1e-4 and more).
+GAP = 1e-6
+
 
 def loops(doc, layer: str, sagitta: float = 1e-5) -> list[np.ndarray]:  # type: ignore[no-untyped-def]
     """The closed contours on *layer* as (N, 2) points in the file's units, largest first.
@@ -18,8 +21,9 @@ def loops(doc, layer: str, sagitta: float = 1e-5) -> list[np.ndarray]:  # type: 
     msp = doc.modelspace()
     out = [np.array([(v.x, v.y) for v in c.flattening(sagitta)])[:-1]
            for c in msp.query(f'CIRCLE[layer=="{layer}"]')]
-    edges = list(edgesmith.edges_from_entities_2d(msp.query(f'LINE ARC[layer=="{layer}"]')))
-    for loop in edgeminer.find_all_loops(edgeminer.Deposit(edges)):
+    edges = list(edgesmith.edges_from_entities_2d(msp.query(f'LINE ARC[layer=="{layer}"]'),
+                                                  gap_tol=GAP))
+    for loop in edgeminer.find_all_loops(edgeminer.Deposit(edges, gap_tol=GAP)):
         points: list[tuple[float, float]] = []
         for edge in loop:
             entity = edge.payload
@@ -40,8 +44,8 @@ def loop_sizes(doc, layer: str) -> tuple[int, list[int]]:  # type: ignore[no-unt
     """(LINE and ARC entities on *layer*, the entities of each closed loop, largest loop
     first)."""
     entities = doc.modelspace().query(f'LINE ARC[layer=="{layer}"]')
-    edges = list(edgesmith.edges_from_entities_2d(entities))
-    found = edgeminer.find_all_loops(edgeminer.Deposit(edges))
+    edges = list(edgesmith.edges_from_entities_2d(entities, gap_tol=GAP))
+    found = edgeminer.find_all_loops(edgeminer.Deposit(edges, gap_tol=GAP))
     area = [abs(edgesmith.loop_area(loop)) for loop in found]
     return len(entities), [len(loop) for _, loop in sorted(zip(area, found, strict=True),
                                                            key=lambda x: -x[0])]

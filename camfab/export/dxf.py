@@ -36,12 +36,19 @@ LAYERS = {
     "NOTE": (7, "CONTINUOUS"),
 }
 
+#: Ends of lines and arcs closer than this (file units) meet, for the reader of the CUT layer:
+#: an arc's ends are recomputed from its centre, radius and angles, which for a nearly straight
+#: arc (radius 10⁶ × its chord) rounds them by about 1e-9.
+READ_GAP = 1e-6
+
 #: $INSUNITS codes of the design units.
 INSUNITS = {"mm": 4, "in": 1}
 
 
-def _add_contour(msp: Any, profile: Profile, scale: float, layer: str) -> None:
-    """A closed contour as LINE and ARC entities meeting end to end.
+def _add_contour(msp: Any, profile: Profile, scale: float, layer: str,
+                 closed: bool = True) -> None:
+    """A contour as LINE and ARC entities meeting end to end (an open one without its closing
+    edge).
 
     Not one LWPOLYLINE with bulges: OpenSCAD's DXF import (among others) drops the bulges and
     cuts chords, while every DXF reader takes lines and arcs, and CAD/CAM programs chain them
@@ -52,7 +59,7 @@ def _add_contour(msp: Any, profile: Profile, scale: float, layer: str) -> None:
     following = np.roll(v, -1, axis=0)
     arcs = profile.arcs()
     arc_at = {int(i): k for k, i in enumerate(arcs.index)}
-    for i in range(len(v)):
+    for i in range(len(v) if closed else len(v) - 1):
         k = arc_at.get(i)
         if k is None:
             msp.add_line(tuple(v[i]), tuple(following[i]), dxfattribs=attribs)
@@ -71,18 +78,30 @@ def _add_contours(msp: Any, contours: Contours, scale: float, layer: str) -> Non
         msp.add_circle((0.0, 0.0), radius * scale, dxfattribs={"layer": layer})
 
 
-def render_dxf(analysis: Analysis, plate: Plate) -> bytes:
-    """The DXF file of *plate* as bytes (R2010, ASCII, no timestamps)."""
+def _new_document(design: Any) -> Any:
+    """An R2010 drawing in the design's units with camfab's layers."""
     import ezdxf
 
-    design, geom = analysis.design, analysis.geometry
-    assert geom is not None, "only disc cams have a plate outline"
-    scale = 1.0 / design.mm_per_unit
     doc = ezdxf.new("R2010", setup=["linetypes"])
     doc.header["$INSUNITS"] = INSUNITS[design.units]
     doc.header["$MEASUREMENT"] = 1 if design.units == "mm" else 0
     for name, (colour, linetype) in LAYERS.items():
         doc.layers.add(name, color=colour, linetype=linetype)
+    return doc
+
+
+def _bytes(doc: Any) -> bytes:
+    stream = io.StringIO()
+    doc.write(stream)
+    return _strip_volatile(stream.getvalue()).encode("utf-8")
+
+
+def render_dxf(analysis: Analysis, plate: Plate) -> bytes:
+    """The DXF file of *plate* as bytes (R2010, ASCII, no timestamps)."""
+    design, geom = analysis.design, analysis.geometry
+    assert geom is not None, "only disc cams have a plate outline"
+    scale = 1.0 / design.mm_per_unit
+    doc = _new_document(design)
     msp = doc.modelspace()
     # references first, what is cut last: drawn on top where they coincide (a knife's pitch
     # curve is its profile)
@@ -94,9 +113,34 @@ def render_dxf(analysis: Analysis, plate: Plate) -> bytes:
     if plate.toolpath is not None:
         _add_contours(msp, plate.toolpath, scale, "TOOLPATH")
     _add_contours(msp, plate.cut, scale, "CUT")
-    stream = io.StringIO()
-    doc.write(stream)
-    return _strip_volatile(stream.getvalue()).encode("utf-8")
+    return _bytes(doc)
+
+
+def render_development_dxf(analysis: Analysis, band: Profile, centre: Profile,
+                           size: tuple[float, float]) -> bytes:
+    """The DXF of a drum cam's groove developed at its surface: the groove between its walls as
+    one closed contour on ``CUT`` (cut open at the seam), the roller axis's track on ``PITCH``
+    (an open chain), the developed surface's rectangle (*size*, mm) on ``MARK``, and a note."""
+    design = analysis.design
+    scale = 1.0 / design.mm_per_unit
+    doc = _new_document(design)
+    msp = doc.modelspace()
+    width, height = size[0] * scale, size[1] * scale
+    corners = [(0.0, 0.0), (width, 0.0), (width, height), (0.0, height)]
+    for a, b in zip(corners, corners[1:] + corners[:1], strict=True):
+        msp.add_line(a, b, dxfattribs={"layer": "MARK"})
+    _add_contour(msp, centre, scale, "PITCH", closed=False)
+    unit = design.units
+    text = [f"{design.name}: drum cam, {design.cam.rotation}, groove developed at the surface "
+            f"(radius {(design.cam.radius or 0.0) * scale:.6g} {unit}), seen from outside",
+            f"groove of {len(band.vertices)} lines and arcs within "
+            f"{design.manufacturing.tolerance * scale:.3g} {unit}"]
+    text_height = max(height * 0.03, 1e-3)
+    for row, line in enumerate(text, start=1):
+        msp.add_text(line, height=text_height, dxfattribs={"layer": "NOTE"}).set_placement(
+            (0.0, -1.6 * row * text_height))
+    _add_contour(msp, band, scale, "CUT")
+    return _bytes(doc)
 
 
 def _add_marks(msp: Any, analysis: Analysis, scale: float, plate: Plate) -> None:
@@ -160,9 +204,9 @@ def read_cut_outline(data: bytes, mm_per_unit: float) -> Profile:
 
     doc = ezdxf.read(io.StringIO(data.decode("utf-8")))
     entities = doc.modelspace().query('LINE ARC LWPOLYLINE[layer=="CUT"]')
-    edges = list(edgesmith.edges_from_entities_2d(entities))
+    edges = list(edgesmith.edges_from_entities_2d(entities, gap_tol=READ_GAP))
     best: Profile | None = None
-    for loop in edgeminer.find_all_loops(edgeminer.Deposit(edges)):
+    for loop in edgeminer.find_all_loops(edgeminer.Deposit(edges, gap_tol=READ_GAP)):
         polyline = edgesmith.lwpolyline_from_chain(loop)
         points = np.array(list(polyline.get_points("xyb")), dtype=np.float64)
         profile = Profile.from_points(points[:, :2] * mm_per_unit, points[:, 2])

@@ -3,7 +3,9 @@
 Rows run from 0 to 360° − step. Where a value steps exactly at a row, the row gives the value just
 after the step. The pressure angle is signed (counter-clockwise from the follower's direction of
 motion to the cam's normal); radii of curvature are signed, convex positive, and empty where the
-curve is straight. Cam types whose geometry is not computed leave these columns empty.
+curve is straight. A drum cam gives the pressure angle at the groove's floor and the radius of
+curvature of its pitch curve developed at the mean radius. Cam types whose geometry is not
+computed leave these columns empty.
 """
 
 from __future__ import annotations
@@ -35,8 +37,12 @@ def motion_table(analysis: Analysis) -> tuple[list[str], np.ndarray]:
             values.append(units.to_si(order, s[order], omega))
     columns += ["pressure_angle_deg", "pitch_radius_of_curvature_mm",
                 "profile_radius_of_curvature_mm"]
-    geom = analysis.geometry
-    if geom is None:
+    geom, dense = analysis.geometry, analysis.drum
+    if dense is not None:  # a drum: at the groove's floor, and the groove developed at its pitch
+        d = dense.drum
+        values += [np.degrees(d.pressure_angle(s[1], d.root)),
+                   d.developed_radius(s[1], s[2], d.pitch), np.full(count, np.nan)]
+    elif geom is None:
         values += [np.full(count, np.nan)] * 3
     else:
         values += [np.degrees(geom.cam.pressure_angle(theta, s)),

@@ -14,7 +14,8 @@ import math
 from typing import TYPE_CHECKING, Any
 
 from camfab import __version__
-from camfab.analysis.cam_checks import offset_side
+from camfab.analysis.cam_checks import CamNumbers, offset_side
+from camfab.analysis.drum_checks import DrumNumbers
 from camfab.analysis.findings import count
 
 if TYPE_CHECKING:
@@ -56,12 +57,10 @@ def report_dict(analysis: Analysis) -> dict[str, Any]:
 def _geometry(analysis: Analysis) -> dict[str, Any]:
     cam, fol = analysis.design.cam, analysis.design.follower
     if cam.type == "cylindrical":
-        return {"radius_mm": cam.radius, "length_mm": cam.length,
-                "groove_depth_mm": cam.groove_depth, "roller_radius_mm": fol.roller_radius,
-                "pitch_radius_mm": None, "root_pressure_angle_max_deg": None}
+        return _drum_geometry(analysis)
     base = cam.base_radius
     geom, numbers = analysis.geometry, analysis.numbers
-    if geom is None or numbers is None or base is None:
+    if geom is None or not isinstance(numbers, CamNumbers) or base is None:
         return {"base_radius_mm": base}
     contact = numbers.face_contact_mm
     required = None if contact is None else contact[1] - contact[0]
@@ -89,6 +88,35 @@ def _geometry(analysis: Analysis) -> dict[str, Any]:
     }
     if fol.oscillating:
         out["rest_arm_angle_deg"] = math.degrees(geom.cam.rest)
+    return out
+
+
+def _drum_geometry(analysis: Analysis) -> dict[str, Any]:
+    cam, fol = analysis.design.cam, analysis.design.follower
+    dense, numbers = analysis.drum, analysis.numbers
+    out: dict[str, Any] = {"radius_mm": cam.radius, "length_mm": cam.length,
+                           "groove_depth_mm": cam.groove_depth,
+                           "roller_radius_mm": fol.roller_radius}
+    if dense is None or not isinstance(numbers, DrumNumbers):
+        return out
+    d = dense.drum
+    out.update({
+        "root_radius_mm": d.root,
+        "pitch_radius_mm": d.pitch,
+        "groove_width_mm": 2 * d.roller,
+        "groove_start_mm": d.start,
+        "bore_radius_mm": d.bore or None,
+        "root_pressure_angle_max_deg": numbers.root_pressure.value,
+        "root_pressure_angle_max_at_deg": numbers.root_pressure.at_deg,
+        "pitch_pressure_angle_max_deg": numbers.pitch_pressure.value,
+        "pitch_pressure_angle_max_at_deg": numbers.pitch_pressure.at_deg,
+        "outer_pressure_angle_max_deg": numbers.outer_pressure.value,
+        "outer_pressure_angle_max_at_deg": numbers.outer_pressure.at_deg,
+        "pressure_angle_limit_deg": math.degrees(analysis.design.pressure_angle_limit),
+        "developed_min_radius_of_curvature_mm": numbers.min_developed_radius.value,
+        "developed_min_radius_of_curvature_at_deg": numbers.min_developed_radius.at_deg,
+        "developed_min_radius_of_curvature_at_radius_mm": numbers.min_developed_radius_at_mm,
+    })
     return out
 
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 import io
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -32,10 +32,59 @@ def hole_points(holes: Contours, tolerance: float) -> list[Array]:
     return chains
 
 
+def circle_segments(radius: float, tolerance: float) -> int:
+    """Sides of a polygon inscribed in a circle of *radius* whose chords stray at most
+    *tolerance* (mm) from it."""
+    return max(8, math.ceil(math.pi / math.acos(max(-1.0, 1.0 - tolerance / radius))))
+
+
+def _binary_stl(solid: Any) -> bytes:
+    """The solid as binary STL bytes. The file stores float32: vertices that round to the same
+    float32 point become one, and the faces that then have no area (an edge collapsed, which
+    keeps the surface closed) are dropped, so what is read back is the closed solid."""
+    import trimesh
+
+    mesh = solid.to_mesh()
+    vertices = np.asarray(mesh.vert_properties)[:, :3].astype(np.float32)
+    tm = trimesh.Trimesh(vertices, np.asarray(mesh.tri_verts), process=False)
+    tm.merge_vertices()
+    tm.update_faces(tm.nondegenerate_faces(height=0.0))
+    tm.remove_unreferenced_vertices()
+    data = tm.export(file_type="stl")
+    assert isinstance(data, bytes)
+    return data
+
+
+def render_drum_stl(analysis: Analysis) -> tuple[bytes, float, float]:
+    """The binary STL of a drum cam (mm): the drum along Z from 0 to its length, the bore
+    through, and the groove subtracted once as one closed tube; with the solid's volume (mm³)
+    and surface area (mm²) as built."""
+    import manifold3d
+
+    from camfab.geometry.drum_mesh import groove_tube
+    from camfab.geometry.sampling import SAMPLING_SHARE
+
+    dense = analysis.drum
+    assert dense is not None
+    d = dense.drum
+    tolerance = SAMPLING_SHARE * analysis.design.manufacturing.tolerance
+    tube = groove_tube(d, analysis.program, tolerance)
+    groove = manifold3d.Manifold(manifold3d.Mesh64(
+        vert_properties=np.ascontiguousarray(tube.vertices, dtype=np.float64),
+        tri_verts=np.ascontiguousarray(tube.faces, dtype=np.uint64)))
+    body = manifold3d.Manifold.cylinder(d.length, d.radius,
+                                        circular_segments=circle_segments(d.radius, tolerance))
+    if d.bore > 0.0:
+        bore = manifold3d.Manifold.cylinder(d.length + 2.0, d.bore,
+                                            circular_segments=circle_segments(d.bore, tolerance))
+        body = body - bore.translate((0.0, 0.0, -1.0))
+    solid = body - groove
+    return _binary_stl(solid), float(solid.volume()), float(solid.surface_area())
+
+
 def render_stl(analysis: Analysis, plate: Plate) -> bytes | None:
     """The binary STL of the plate, or None when the design gives no ``thickness``."""
     import manifold3d
-    import trimesh
 
     geom, cam = analysis.geometry, analysis.design.cam
     assert geom is not None
@@ -43,13 +92,7 @@ def render_stl(analysis: Analysis, plate: Plate) -> bytes | None:
         return None
     contours = [geom.profile.ccw().vertices, *hole_points(plate.holes, geom.tolerance)]
     section = manifold3d.CrossSection(contours, manifold3d.FillRule.EvenOdd)
-    solid = manifold3d.Manifold.extrude(section, cam.thickness)
-    mesh = solid.to_mesh()
-    tm = trimesh.Trimesh(np.asarray(mesh.vert_properties)[:, :3], np.asarray(mesh.tri_verts),
-                         process=False)
-    data = tm.export(file_type="stl")
-    assert isinstance(data, bytes)
-    return data
+    return _binary_stl(manifold3d.Manifold.extrude(section, cam.thickness))
 
 
 #: A face with less area than this (mm²) counts as degenerate: far below any facet a plate of
@@ -94,12 +137,21 @@ def expected_volume(analysis: Analysis, plate: Plate) -> tuple[float, float]:
     return area * cam.thickness, tolerance * length * cam.thickness
 
 
-def check_stl(data: bytes, expected_mm3: float, allowance_mm3: float) -> StlCheck:
-    """Read *data* back as a binary STL and check it (see :class:`StlCheck`)."""
+def read_stl(data: bytes) -> Any:
+    """The STL *data* read back with trimesh (coincident vertices merged), as a reader would."""
     import trimesh
 
     mesh = trimesh.load(io.BytesIO(data), file_type="stl", force="mesh")
     assert isinstance(mesh, trimesh.Trimesh)
+    return mesh
+
+
+def check_stl(data: bytes, expected_mm3: float, allowance_mm3: float,
+              mesh: Any = None) -> StlCheck:
+    """Read *data* back as a binary STL (or take its *mesh* already read) and check it (see
+    :class:`StlCheck`)."""
+    if mesh is None:
+        mesh = read_stl(data)
     return StlCheck(
         faces=len(mesh.faces),
         watertight=bool(mesh.is_watertight),

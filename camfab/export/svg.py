@@ -15,7 +15,7 @@ import numpy as np
 from camfab.geometry.profile import Profile
 
 if TYPE_CHECKING:
-    from camfab.geometry.plate import Plate
+    from camfab.geometry.plate import Contours
     from camfab.pipeline import Analysis
 
 #: Margin around the drawing, as a fraction of its size.
@@ -48,24 +48,25 @@ def path_data(profile: Profile, scale: float) -> str:
     return " ".join(parts)
 
 
-def render_svg(analysis: Analysis, plate: Plate) -> bytes:
-    """The SVG file as bytes: the plate's CUT contours (the outline first), as the DXF has them."""
+def render_svg(analysis: Analysis, contours: Contours) -> bytes:
+    """The SVG file as bytes: *contours* (mm; a disc's CUT contours, or a drum's developed
+    groove) at true size, outlines only."""
     design = analysis.design
     scale = 1.0 / design.mm_per_unit
-    shapes = [f'<path d="{path_data(profile, scale)}"/>' for profile in plate.cut.profiles]
+    shapes = [f'<path d="{path_data(profile, scale)}"/>' for profile in contours.profiles]
     shapes += [f'<circle cx="0" cy="0" r="{_num(radius * scale)}"/>'
-               for radius in plate.cut.circles]
-    # a square about the cam centre holding the outline; the margin also covers the arcs'
-    # slight bulge beyond their end points
-    reach = float(np.max(plate.cut.profiles[0].radii())) * scale
-    pad = MARGIN * 2 * reach
-    x0 = y0 = -reach - pad
-    width = 2 * reach + 2 * pad
+               for radius in contours.circles]
+    # the contours' extent; the margin also covers the arcs' slight bulge beyond their ends
+    points = np.vstack([p.vertices for p in contours.profiles]
+                       + [np.array([[-r, -r], [r, r]]) for r in contours.circles]) * scale
+    low, high = points.min(axis=0), points.max(axis=0)
+    pad = MARGIN * float(np.max(high - low))
+    width, height = high[0] - low[0] + 2 * pad, high[1] - low[1] + 2 * pad
     unit = design.units
-    stroke = _num(width / 1000.0)
+    stroke = _num(max(width, height) / 1000.0)
     head = (f'<svg xmlns="http://www.w3.org/2000/svg" width="{_num(width)}{unit}" '
-            f'height="{_num(width)}{unit}" viewBox="{_num(x0)} {_num(y0)} {_num(width)} '
-            f'{_num(width)}">')
+            f'height="{_num(height)}{unit}" viewBox="{_num(low[0] - pad)} {_num(-high[1] - pad)} '
+            f'{_num(width)} {_num(height)}">')
     title = f"<title>{escape(design.name)}: CUT contours, {unit}</title>"
     body = (f'<g fill="none" stroke="#d00000" stroke-width="{stroke}">'
             + "".join(shapes) + "</g>")

@@ -59,17 +59,21 @@ def _arc_error(points: Array, start: int, end: int) -> tuple[float, float]:
     return error, math.tan(sweep / 4.0)
 
 
-def fit_arcs(points: Array, tolerance: float) -> Profile:
-    """A closed contour of lines and arcs within *tolerance* (mm) of the closed chain *points*.
+def fit_arcs(points: Array, tolerance: float, closed: bool = True) -> Profile:
+    """A contour of lines and arcs within *tolerance* (mm) of the chain *points*.
 
     Parameters
     ----------
     points
-        (N, 2) points in order along a smooth closed curve, without a repeated closing point.
+        (N, 2) points in order along a smooth curve; a closed chain without a repeated closing
+        point.
     tolerance
         Largest distance allowed between a point and the arc that replaces it.
+    closed
+        False for an open chain: the profile then ends with the chain's last point, and its
+        closing edge (back to the first) is not part of the curve.
     """
-    chain = np.vstack((points, points[:1]))
+    chain = np.vstack((points, points[:1])) if closed else points
     last = len(chain) - 1
     vertices, bulges = [], []
     start = 0
@@ -102,4 +106,7 @@ def fit_arcs(points: Array, tolerance: float) -> Profile:
         vertices.append(chain[start])
         bulges.append(good_bulge)
         start = good
+    if not closed:
+        vertices.append(chain[-1])
+        bulges.append(0.0)
     return Profile(np.array(vertices), np.array(bulges))

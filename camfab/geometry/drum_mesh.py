@@ -1,0 +1,198 @@
+"""The groove of a drum cam as one closed tube mesh (numpy only), to be subtracted from the drum
+once (THEORY §C: unions of hull pieces leave slivers that break after the float32 round trip).
+
+At each station (a cam angle) the tube's cross-section runs up the lower wall from the groove's
+floor to beyond the drum's surface, back down the upper wall, and across the floor along the
+floor's circle. The walls are the exact envelope (``Drum.walls``) at radii placed so that the
+straight pieces between them stay within the tolerance; stations are placed by the chord error
+of the walls developed at the surface, the faster-moving outer wall deciding.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from camfab.arrays import Array
+from camfab.geometry.drum import ANALYSIS_STEP, Drum, polar_to_xy
+from camfab.motion.program import MotionProgram
+
+#: Largest step of cam angle between stations, however straight the groove runs.
+MAX_STATION_STEP = math.radians(1.0)
+
+#: How far past the drum's surface the tube reaches (mm, at least), so the subtraction cuts
+#: cleanly through the surface instead of grazing it.
+SURFACE_MARGIN_MM = 1.0
+
+
+@dataclass(frozen=True)
+class Tube:
+    """A closed, consistently wound triangle mesh: (V, 3) vertices (mm) and (F, 3) faces; with
+    the stations' cam angles (rad) and the radii of the wall rows (mm, floor first)."""
+
+    vertices: Array
+    faces: Array
+    stations: Array
+    radii: Array
+
+
+def stations(d: Drum, program: MotionProgram, tolerance: float) -> Array:
+    """Cam angles (rad, one turn, joints included) at which the groove's chords stay within
+    *tolerance* (mm) of the walls developed at the drum's surface."""
+    out = []
+    for seg in program.segments:
+        t = np.linspace(0.0, seg.span, max(3, math.ceil(seg.span / ANALYSIS_STEP) + 1))
+        m = seg.evaluate_local(t)
+        r = d.radius
+        speed = np.hypot(r, m[1])
+        rho = np.abs(d.developed_radius(m[1], m[2], r))
+        with np.errstate(invalid="ignore", divide="ignore"):
+            # a chord of the outer wall (radius ρ + R, moving at speed·(ρ + R)/ρ) strays
+            # (speed·(ρ+R)/ρ·Δθ)²/(8(ρ+R)) from it
+            step = np.sqrt(8.0 * tolerance / (rho + d.roller)) * rho / speed
+        step = np.where(np.isfinite(step), np.minimum(step, MAX_STATION_STEP), MAX_STATION_STEP)
+        density = 1.0 / step
+        cumulative = np.concatenate(([0.0], np.cumsum(0.5 * (density[1:] + density[:-1])
+                                                      * np.diff(t))))
+        count = max(2, math.ceil(cumulative[-1]))
+        local = np.interp(np.linspace(0.0, cumulative[-1], count + 1), cumulative, t)
+        out.append(seg.start + local[:-1])
+    return np.concatenate(out)
+
+
+def _rows(d: Drum, theta: Array, m: Array, tolerance: float) -> Array:
+    """Radii of the wall rows: the floor to the surface in equal steps, as many as keep the
+    straight pieces between rows within *tolerance* (mm) of the wall, then one row beyond."""
+    outer = d.radius + max(SURFACE_MARGIN_MM, 0.1 * d.depth)
+    count = 1
+    while True:
+        radii = np.linspace(d.root, d.radius, count + 1)
+        mid = 0.5 * (radii[:-1] + radii[1:])
+        worst = 0.0
+        for lo, hi, centre in zip(radii[:-1], radii[1:], mid, strict=True):
+            a, b, c = (_points(d, theta, m, r) for r in (lo, hi, centre))
+            worst = max(worst, float(np.max(np.linalg.norm(0.5 * (a + b) - c, axis=-1))))
+        if worst <= tolerance or count >= 64:
+            return np.append(radii, outer)
+        count *= 2
+
+
+def _points(d: Drum, theta: Array, m: Array, r: float) -> Array:
+    """Both walls at radius *r*: (2, N, 3) points, lower wall first."""
+    walls = d.walls(theta, m[0], m[1], r)
+    lower = np.concatenate((polar_to_xy(r, walls.phi_lower), walls.z_lower[:, None]), axis=-1)
+    upper = np.concatenate((polar_to_xy(r, walls.phi_upper), walls.z_upper[:, None]), axis=-1)
+    return np.stack((lower, upper))
+
+
+def groove_tube(d: Drum, program: MotionProgram, tolerance: float) -> Tube:
+    """The groove as one closed tube, its chords within *tolerance* (mm) of the exact walls."""
+    theta = stations(d, program, tolerance)
+    m = program.evaluate(theta)
+    radii = _rows(d, theta, m, tolerance)
+    walls = [d.walls(theta, m[0], m[1], r) for r in radii]
+    # across the floor: enough points on the floor's circle for the widest stretch
+    floor = walls[0]
+    span = float(np.max(np.abs(floor.phi_upper - floor.phi_lower)))
+    step = 2.0 * math.acos(max(-1.0, 1.0 - tolerance / d.root))
+    across = max(1, math.ceil(span / step))
+    # the cross-section, per station: (phi, r, z) columns around the ring
+    phi = [w.phi_lower for w in walls] + [w.phi_upper for w in reversed(walls)]
+    rad = [np.full(theta.size, r) for r in radii] + [np.full(theta.size, r) for r in radii[::-1]]
+    z = [w.z_lower for w in walls] + [w.z_upper for w in reversed(walls)]
+    for k in range(1, across):
+        f = k / across  # from the upper wall's foot back to the lower wall's
+        phi.append(floor.phi_upper + f * (floor.phi_lower - floor.phi_upper))
+        rad.append(np.full(theta.size, d.root))
+        z.append(floor.z_upper + f * (floor.z_lower - floor.z_upper))
+    ring_phi, ring_r, ring_z = (np.stack(c, axis=1) for c in (phi, rad, z))  # (N, M)
+    xy = polar_to_xy(ring_r, ring_phi)
+    vertices = np.concatenate((xy, ring_z[..., None]), axis=-1).reshape(-1, 3)
+    n, size = ring_phi.shape
+    i = np.arange(n)[:, None]
+    j = np.arange(size)[None, :]
+    a = i * size + j
+    b = i * size + (j + 1) % size
+    c = ((i + 1) % n) * size + (j + 1) % size
+    e = ((i + 1) % n) * size + j
+    faces = np.concatenate((np.stack((a, b, c), -1).reshape(-1, 3),
+                            np.stack((a, c, e), -1).reshape(-1, 3)))
+    if _signed_volume(vertices, faces) < 0:
+        faces = faces[:, ::-1]
+    return Tube(vertices, faces, theta, radii)
+
+
+def _signed_volume(vertices: Array, faces: Array) -> float:
+    a, b, c = (vertices[faces[:, k]] for k in range(3))
+    return float(np.einsum("ij,ij->i", a, np.cross(b, c)).sum() / 6.0)
+
+
+@dataclass(frozen=True)
+class Development:
+    """The groove developed (unrolled) at the drum's surface (mm): x = R·ϕ measured from the
+    θ = 0 line counter-clockwise about +Z (the surface as seen from outside with +Z up, shifted
+    to run from 0 to 2πR), y = z. ``lower``/``upper`` are the walls and ``centre`` the roller
+    axis's track, each (N, 2) from θ = 0 to one full turn (both ends included)."""
+
+    lower: Array
+    upper: Array
+    centre: Array
+    width: float
+    height: float
+
+
+def development(d: Drum, program: MotionProgram, tolerance: float) -> Development:
+    """The groove at the drum's surface, at the stations of :func:`stations`."""
+    theta = np.append(stations(d, program, tolerance), 2.0 * math.pi)
+    m = program.evaluate(theta)
+    m[:, -1] = program.evaluate(np.zeros(1))[:, 0]
+    walls = d.walls(theta, m[0], m[1], d.radius)
+    shift = 2.0 * math.pi if d.sigma > 0 else 0.0
+
+    def unrolled(phi: Array, z: Array) -> Array:
+        return np.stack((d.radius * (phi + shift), z), -1)
+
+    alpha = d.axis_angle(theta)
+    return Development(unrolled(walls.phi_lower, walls.z_lower),
+                       unrolled(walls.phi_upper, walls.z_upper),
+                       unrolled(alpha, d.start + m[0]), 2.0 * math.pi * d.radius, d.length)
+
+
+def groove_lift(d: Drum, vertices: Array, theta: Array, centre: Array) -> tuple[Array, Array]:
+    """Run the roller through a groove given by mesh *vertices* (mm, as read back from a file):
+    at each cam angle *theta* the lowest and highest heights (mm) its centre can take between the
+    walls, from the wall vertices between the floor and the surface within its reach. *centre*
+    (mm) is the design's height there, which tells the lower wall's vertices from the upper's.
+
+    A vertex lies on the roller's surface when its distance from the roller's axis is R: a
+    vertex at w = r sin(ϕ − α) across the axis keeps the centre at least √(R² − w²) above it
+    (a vertex of the lower wall) or below it (of the upper wall).
+    """
+    r = np.hypot(vertices[:, 0], vertices[:, 1])
+    keep = (r > d.root + 1e-3 * d.depth) & (r < d.radius - 1e-3 * d.depth)
+    pts, r = vertices[keep], r[keep]
+    phi = np.arctan2(-pts[:, 0], pts[:, 1])
+    order = np.argsort(phi)
+    # three turns side by side, so a window round the seam is one slice
+    phi = np.concatenate((phi[order] - 2 * math.pi, phi[order], phi[order] + 2 * math.pi))
+    r, z = np.tile(r[order], 3), np.tile(pts[order, 2], 3)
+    reach = math.asin(min(1.0, d.roller / d.root)) + 1e-9
+    alpha = np.mod(d.axis_angle(theta) + math.pi, 2 * math.pi) - math.pi
+    first = np.searchsorted(phi, alpha - reach)
+    last = np.searchsorted(phi, alpha + reach)
+    low = np.full(theta.size, -np.inf)
+    high = np.full(theta.size, np.inf)
+    for k in range(theta.size):
+        window = slice(first[k], last[k])
+        w = r[window] * np.sin(phi[window] - alpha[k])
+        inside = np.abs(w) < d.roller
+        gap = np.sqrt(d.roller**2 - w[inside] ** 2)
+        zk = z[window][inside]
+        below = zk < centre[k]
+        if below.any():
+            low[k] = float(np.max(zk[below] + gap[below]))
+        if (~below).any():
+            high[k] = float(np.min(zk[~below] - gap[~below]))
+    return low, high

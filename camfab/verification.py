@@ -1,0 +1,188 @@
+"""Every build checks the files it writes: it reads them back as their users would and runs the
+follower over what it finds.
+
+A disc cam's CUT outline is read back from the DXF (the kerf taken back off) and the follower run
+over it; the outline's distance from the exact curve is measured; the STL is read back and
+checked closed, outward and of the part's volume. A drum cam's STL is read back and the roller
+run through the groove between the wall vertices it finds; the developed groove in the DXF is
+measured against the exact walls.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from camfab.analysis.findings import Finding
+
+if TYPE_CHECKING:
+    from camfab.export.stl import StlCheck
+    from camfab.geometry.disc_geometry import LiftCheck
+    from camfab.pipeline import Analysis
+
+#: Cam-angle step at which the roller is run through a drum's groove read back from the STL.
+DRUM_VERIFY_STEP = math.radians(0.5)
+
+
+@dataclass(frozen=True)
+class Verification:
+    """What reading the files back found.
+
+    ``lift`` is the follower run over the geometry as written; ``source`` says which; ``entities``
+    counts the lines and arcs of the CUT contour read back; ``deviation_mm`` is its largest
+    distance from the exact curve (a disc's working curve offset kerf/2 outward with a kerf, or a
+    drum's walls developed at its surface; None for an undercut cam, whose outline is the
+    trimmed one on purpose); ``stl`` is the STL read back (when one is made).
+    """
+
+    lift: LiftCheck
+    source: str
+    entities: int
+    deviation_mm: float | None
+    stl: StlCheck | None = None
+    exempt: bool = False
+
+
+@dataclass(frozen=True)
+class Exports:
+    """The manufacturing files by output name (``dxf``, ``svg``, ``stl``) and, for those a
+    design cannot have, why."""
+
+    files: dict[str, bytes]
+    withheld: dict[str, str]
+
+
+def verify_exports(analysis: Analysis, requested: tuple[str, ...]) -> tuple[Analysis, Exports]:
+    """Make the manufacturing files, read them back and run the follower over them.
+
+    Returns the analysis with its :class:`Verification` (and the ``verification`` check) and
+    the *requested* files (none for cam types without them). Whatever the verification reads
+    is made whether requested or not.
+    """
+    withheld: dict[str, str] = {}
+    if analysis.drum is not None:
+        check, files, withheld = _verify_drum(analysis)
+    elif analysis.geometry is not None:
+        check, files = _verify_disc(analysis, requested)
+    else:
+        return analysis, Exports({}, {})
+    findings = [*analysis.findings, verification_finding(analysis, check)]
+    wanted = {name: data for name, data in files.items() if name in requested}
+    return (replace(analysis, verification=check, findings=findings),
+            Exports(wanted, {k: v for k, v in withheld.items() if k in requested}))
+
+
+def _verify_disc(analysis: Analysis, requested: tuple[str, ...]) -> tuple[Verification,
+                                                                         dict[str, bytes]]:
+    from camfab.export.dxf import read_cut_outline, render_dxf
+    from camfab.geometry.curves import offset_inward
+    from camfab.geometry.disc_geometry import lift_check
+    from camfab.geometry.plate import inside_kerf, plate
+
+    design, geom = analysis.design, analysis.geometry
+    assert geom is not None
+    contours = plate(design, geom)
+    dxf = render_dxf(analysis, contours)
+    written = read_cut_outline(dxf, design.mm_per_unit)
+    part = written
+    source = f"CUT outline read back from {design.name}.dxf"
+    if contours.kerf > 0.0:
+        part = inside_kerf(written, contours.kerf, geom.tolerance)
+        source += f", less the kerf/2 of {contours.kerf / 2:.6g} mm the beam removes"
+    lift = lift_check(geom.cam, analysis.program, part)
+    deviation = None
+    if not geom.undercut:
+        exact = offset_inward(geom.dense.working, geom.cam.sigma, -contours.kerf / 2.0)
+        deviation = float(written.distance(exact.xy).max())
+    files = {"dxf": dxf}
+    if "svg" in requested:
+        from camfab.export.svg import render_svg
+
+        files["svg"] = render_svg(analysis, contours.cut)
+    stl_check = None
+    if "stl" in requested:
+        from camfab.export.stl import check_stl, expected_volume, render_stl
+
+        stl = render_stl(analysis, contours)
+        if stl is not None:
+            files["stl"] = stl
+            stl_check = check_stl(stl, *expected_volume(analysis, contours))
+    return Verification(lift, source, len(written.vertices), deviation, stl_check,
+                        exempt=geom.undercut), files
+
+
+def _verify_drum(analysis: Analysis) -> tuple[Verification, dict[str, bytes], dict[str, str]]:
+    from camfab.export.dxf import read_cut_outline, render_development_dxf
+    from camfab.export.stl import check_stl, read_stl, render_drum_stl
+    from camfab.export.svg import render_svg
+    from camfab.geometry.arcfit import fit_arcs
+    from camfab.geometry.disc_geometry import LiftCheck
+    from camfab.geometry.drum_mesh import development, groove_lift
+    from camfab.geometry.plate import Contours
+    from camfab.geometry.sampling import SAMPLING_SHARE
+    from camfab.motion.program import cycle_angles
+
+    design, dense = analysis.design, analysis.drum
+    assert dense is not None
+    d, program = dense.drum, analysis.program
+    tolerance = SAMPLING_SHARE * design.manufacturing.tolerance
+    # the developed groove: the walls at the surface, closed across the seam
+    dev = development(d, program, tolerance)
+    band = fit_arcs(np.vstack((dev.lower, dev.upper[::-1])), tolerance)
+    centre = fit_arcs(dev.centre, tolerance, closed=False)
+    dxf = render_development_dxf(analysis, band, centre, (dev.width, dev.height))
+    written = read_cut_outline(dxf, design.mm_per_unit)
+    exact = development(d, program, tolerance / 64.0)
+    deviation = float(written.distance(np.vstack((exact.lower, exact.upper))).max())
+    files = {"dxf": dxf, "svg": render_svg(analysis, Contours((band,)))}
+    theta = cycle_angles(DRUM_VERIFY_STEP)
+    centre_z = d.start + program.evaluate(theta)[0]
+    folded = any(f.id == "groove" and not f.ok for f in analysis.findings)
+    if folded:
+        # the inner wall folds over itself: no solid a roller could run in. The roller is run
+        # between the exact walls as computed, to show how far the fold would throw it.
+        from camfab.geometry.drum_mesh import groove_tube
+
+        vertices = groove_tube(d, program, tolerance).vertices
+        stl_check, withheld = None, {"stl": "the groove folds over itself (see the groove "
+                                            "check): there is no solid a roller could run in"}
+        source = "the roller run between the exact walls (the groove folds, no STL)"
+    else:
+        # the solid, read back; the roller run between the wall vertices it finds
+        stl, volume, area = render_drum_stl(analysis)
+        mesh = read_stl(stl)
+        stl_check = check_stl(stl, volume, design.manufacturing.tolerance * area, mesh)
+        vertices = np.asarray(mesh.vertices, dtype=np.float64)
+        files["stl"], withheld = stl, {}
+        source = (f"the roller run through the groove of {design.name}.stl read back (between "
+                  f"its wall vertices)")
+    low, high = groove_lift(d, vertices, theta, centre_z)
+    error = np.where(np.isfinite(low) & np.isfinite(high), 0.5 * (low + high) - centre_z, np.inf)
+    check = Verification(LiftCheck(theta, error, error), source, len(written.vertices),
+                         deviation, stl_check, exempt=folded)
+    return check, files, withheld
+
+
+def verification_finding(analysis: Analysis, check: Verification) -> Finding:
+    """Do the files hold the design? The follower's lift over the geometry as written within
+    the tolerance (an undercut cam's error is the undercut finding's), and the STL closed,
+    outward and of the part's volume."""
+    tolerance = analysis.design.manufacturing.tolerance
+    lift_ok = check.exempt or check.lift.max_mm <= tolerance
+    parts = [f"the follower run over the geometry as written ({check.source}) moves "
+             f"{check.lift.max_mm:.3g} mm at most from the design motion (at "
+             f"{check.lift.at_deg:.4g}°, tolerance {tolerance:.3g} mm)"]
+    stl = check.stl
+    if stl is not None:
+        shape = ("closed, outward, no degenerate face" if stl.watertight and
+                 stl.consistent_winding and stl.degenerate_faces == 0 else
+                 f"NOT a closed outward solid (watertight: {stl.watertight}, consistent "
+                 f"winding: {stl.consistent_winding}, degenerate faces: {stl.degenerate_faces})")
+        parts.append(f"the STL reads back {shape}, {stl.faces} faces, "
+                     f"{stl.volume_mm3:.6g} mm³ against the part's {stl.expected_volume_mm3:.6g}")
+    ok = lift_ok and (stl is None or stl.ok)
+    return Finding("verification", ok, "error", "; ".join(parts), check.lift.max_mm,
+                   tolerance, "mm")
