@@ -1,0 +1,77 @@
+"""Drum-cam build time: the groove solid alone, and the build end to end.
+
+    python benchmarks/drum_speed.py [DESIGN] [--runs N]
+
+The groove solid is timed in process, the libraries loaded: the tube mesh of the exact walls,
+the drum with its bore, the one subtraction, and the binary STL. The build runs as
+``camfab build DESIGN`` in a fresh process (DXF, SVG, STL, report JSON, motion CSV, and the
+verification that reads the STL back and runs the roller through it). Targets: the groove solid
+under 0.3 s, the build under 2.5 s.
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+DEFAULT_DESIGN = ROOT / "designs" / "demo-cylindrical.yaml"
+
+MAX_SOLID_S = 0.3
+MAX_BUILD_S = 2.5
+
+
+def solid_time(design_path: Path, runs: int) -> tuple[float, int]:
+    """Median seconds to make the groove solid and its STL bytes, and the STL's face count."""
+    sys.path.insert(0, str(ROOT))
+    from camfab.design import load_design
+    from camfab.export.stl import render_drum_stl
+    from camfab.pipeline import analyse
+
+    analysis = analyse(load_design(design_path))
+    data, _, _ = render_drum_stl(analysis)  # warm every import
+    times = []
+    for _ in range(runs):
+        start = time.perf_counter()
+        data, _, _ = render_drum_stl(analysis)
+        times.append(time.perf_counter() - start)
+    return statistics.median(times), int.from_bytes(data[80:84], "little")
+
+
+def build_time(design_path: Path, runs: int) -> float:
+    """Median wall seconds of ``camfab build`` in a fresh process."""
+    subprocess.run([sys.executable, "-m", "compileall", "-q", str(ROOT / "camfab")], check=True)
+    times = []
+    with tempfile.TemporaryDirectory() as folder:
+        for _ in range(runs + 1):
+            start = time.perf_counter()
+            subprocess.run([sys.executable, "-m", "camfab", "build", str(design_path), "-o",
+                            folder], check=False, stdout=subprocess.DEVNULL,
+                           stderr=subprocess.DEVNULL, cwd=ROOT)
+            times.append(time.perf_counter() - start)
+    return statistics.median(times[1:])
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("design", nargs="?", type=Path, default=DEFAULT_DESIGN)
+    parser.add_argument("--runs", type=int, default=7)
+    options = parser.parse_args()
+    solid, faces = solid_time(options.design, options.runs)
+    build = build_time(options.design, options.runs)
+    print(f"design: {options.design.name}")
+    print(f"groove solid + STL  {solid:.3f} s (median of {options.runs}; {faces} faces)")
+    print(f"camfab build        {build:.3f} s (median of {options.runs}, fresh processes)")
+    ok = solid < MAX_SOLID_S and build < MAX_BUILD_S
+    print(f"targets: solid < {MAX_SOLID_S} s and build < {MAX_BUILD_S} s: "
+          f"{'met' if ok else 'NOT met'}")
+    return 0 if ok else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
