@@ -85,7 +85,18 @@ def _verify_disc(analysis: Analysis, requested: tuple[str, ...]) -> tuple[Verifi
     design, geom = analysis.design, analysis.geometry
     assert geom is not None
     contours = plate(design, geom)
+    files: dict[str, bytes] = {}
+    stl_check = None
+    # the solid, read back
+    if "stl" in requested:
+        from camfab.export.stl import check_stl, expected_volume, render_stl
+
+        stl = render_stl(analysis, contours)
+        if stl is not None:
+            files["stl"] = stl
+            stl_check = check_stl(stl, *expected_volume(analysis, contours))
     dxf = render_dxf(analysis, contours)
+    files["dxf"] = dxf
     written = read_cut_outline(dxf, design.mm_per_unit)
     part = written
     source = f"CUT outline read back from {design.name}.dxf"
@@ -97,19 +108,10 @@ def _verify_disc(analysis: Analysis, requested: tuple[str, ...]) -> tuple[Verifi
     if not geom.undercut:
         exact = offset_inward(geom.dense.working, geom.cam.sigma, -contours.kerf / 2.0)
         deviation = float(written.distance(exact.xy).max())
-    files = {"dxf": dxf}
     if "svg" in requested:
         from camfab.export.svg import render_svg
 
         files["svg"] = render_svg(analysis, contours.cut)
-    stl_check = None
-    if "stl" in requested:
-        from camfab.export.stl import check_stl, expected_volume, render_stl
-
-        stl = render_stl(analysis, contours)
-        if stl is not None:
-            files["stl"] = stl
-            stl_check = check_stl(stl, *expected_volume(analysis, contours))
     return Verification(lift, source, len(written.vertices), deviation, stl_check,
                         exempt=geom.undercut), files
 
@@ -120,7 +122,7 @@ def _verify_drum(analysis: Analysis) -> tuple[Verification, dict[str, bytes], di
     from camfab.export.svg import render_svg
     from camfab.geometry.arcfit import fit_arcs
     from camfab.geometry.disc_geometry import LiftCheck
-    from camfab.geometry.drum_mesh import development, groove_lift
+    from camfab.geometry.drum_mesh import development, groove_lift, groove_tube
     from camfab.geometry.plate import Contours
     from camfab.geometry.sampling import SAMPLING_SHARE
     from camfab.motion.program import cycle_angles
@@ -129,6 +131,31 @@ def _verify_drum(analysis: Analysis) -> tuple[Verification, dict[str, bytes], di
     assert dense is not None
     d, program = dense.drum, analysis.program
     tolerance = SAMPLING_SHARE * design.manufacturing.tolerance
+    files: dict[str, bytes] = {}
+    withheld: dict[str, str] = {}
+    folded = any(f.id == "groove" and not f.ok for f in analysis.findings)
+    if folded:
+        # the inner wall folds over itself: no solid a roller could run in. The roller is run
+        # between the exact walls as computed, to show how far the fold would throw it.
+        vertices = groove_tube(d, program, tolerance).vertices
+        stl_check = None
+        withheld["stl"] = ("the groove folds over itself (see the groove check): there is no "
+                           "solid a roller could run in")
+        source = "the roller run between the exact walls (the groove folds, no STL)"
+    else:
+        # the solid, read back
+        stl, volume, area = render_drum_stl(analysis)
+        mesh = read_stl(stl)
+        stl_check = check_stl(stl, volume, design.manufacturing.tolerance * area, mesh)
+        vertices = np.asarray(mesh.vertices, dtype=np.float64)
+        files["stl"] = stl
+        source = (f"the roller run through the groove of {design.name}.stl read back (between "
+                  f"its wall vertices)")
+    # the roller run between the wall vertices found
+    theta = cycle_angles(DRUM_VERIFY_STEP)
+    centre_z = d.start + program.evaluate(theta)[0]
+    low, high = groove_lift(d, vertices, theta, centre_z)
+    error = np.where(np.isfinite(low) & np.isfinite(high), 0.5 * (low + high) - centre_z, np.inf)
     # the developed groove: the walls at the surface, closed across the seam
     dev = development(d, program, tolerance)
     band = fit_arcs(np.vstack((dev.lower, dev.upper[::-1])), tolerance)
@@ -137,30 +164,8 @@ def _verify_drum(analysis: Analysis) -> tuple[Verification, dict[str, bytes], di
     written = read_cut_outline(dxf, design.mm_per_unit)
     exact = development(d, program, tolerance / 64.0)
     deviation = float(written.distance(np.vstack((exact.lower, exact.upper))).max())
-    files = {"dxf": dxf, "svg": render_svg(analysis, Contours((band,)))}
-    theta = cycle_angles(DRUM_VERIFY_STEP)
-    centre_z = d.start + program.evaluate(theta)[0]
-    folded = any(f.id == "groove" and not f.ok for f in analysis.findings)
-    if folded:
-        # the inner wall folds over itself: no solid a roller could run in. The roller is run
-        # between the exact walls as computed, to show how far the fold would throw it.
-        from camfab.geometry.drum_mesh import groove_tube
-
-        vertices = groove_tube(d, program, tolerance).vertices
-        stl_check, withheld = None, {"stl": "the groove folds over itself (see the groove "
-                                            "check): there is no solid a roller could run in"}
-        source = "the roller run between the exact walls (the groove folds, no STL)"
-    else:
-        # the solid, read back; the roller run between the wall vertices it finds
-        stl, volume, area = render_drum_stl(analysis)
-        mesh = read_stl(stl)
-        stl_check = check_stl(stl, volume, design.manufacturing.tolerance * area, mesh)
-        vertices = np.asarray(mesh.vertices, dtype=np.float64)
-        files["stl"], withheld = stl, {}
-        source = (f"the roller run through the groove of {design.name}.stl read back (between "
-                  f"its wall vertices)")
-    low, high = groove_lift(d, vertices, theta, centre_z)
-    error = np.where(np.isfinite(low) & np.isfinite(high), 0.5 * (low + high) - centre_z, np.inf)
+    files["dxf"] = dxf
+    files["svg"] = render_svg(analysis, Contours((band,)))
     check = Verification(LiftCheck(theta, error, error), source, len(written.vertices),
                          deviation, stl_check, exempt=folded)
     return check, files, withheld

@@ -55,11 +55,17 @@ def _binary_stl(solid: Any) -> bytes:
     return data
 
 
+#: trimesh (which imports much of scipy) is imported before manifold3d computes anything: after
+#: a boolean, manifold's worker threads keep a core busy for a while, and the same imports were
+#: measured 0.15 s slower on two cores.
+
+
 def render_drum_stl(analysis: Analysis) -> tuple[bytes, float, float]:
     """The binary STL of a drum cam (mm): the drum along Z from 0 to its length, the bore
     through, and the groove subtracted once as one closed tube; with the solid's volume (mm³)
     and surface area (mm²) as built."""
     import manifold3d
+    import trimesh  # noqa: F401  (before manifold3d computes: see above)
 
     from camfab.geometry.drum_mesh import groove_tube
     from camfab.geometry.sampling import SAMPLING_SHARE
@@ -85,6 +91,7 @@ def render_drum_stl(analysis: Analysis) -> tuple[bytes, float, float]:
 def render_stl(analysis: Analysis, plate: Plate) -> bytes | None:
     """The binary STL of the plate, or None when the design gives no ``thickness``."""
     import manifold3d
+    import trimesh  # noqa: F401  (before manifold3d computes: see above)
 
     geom, cam = analysis.geometry, analysis.design.cam
     assert geom is not None
