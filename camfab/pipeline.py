@@ -23,6 +23,7 @@ from camfab.motion.program import MotionProgram
 if TYPE_CHECKING:
     from camfab.analysis.cam_checks import CamNumbers
     from camfab.analysis.drum_checks import DrumNumbers
+    from camfab.analysis.dynamics import Dynamics
     from camfab.geometry.disc_geometry import DiscGeometry
     from camfab.geometry.drum import DrumDense
     from camfab.verification import Verification
@@ -44,6 +45,7 @@ class Analysis:
     numbers: CamNumbers | DrumNumbers | None = None
     verification: Verification | None = None
     drum: DrumDense | None = None
+    dynamics: Dynamics | None = None
 
     @property
     def exit_code(self) -> int:
@@ -52,7 +54,22 @@ class Analysis:
 
 
 def analyse(design: Design) -> Analysis:
-    """Compute the motion, its kinematics and the checks of *design*."""
+    """Compute the motion, its kinematics, the cam's geometry, the dynamics and the checks of
+    *design*."""
+    from dataclasses import replace
+
+    analysis = _analyse_geometry(design)
+    if design.spring is None or design.follower.mass is None:
+        return analysis
+    from camfab.analysis.dynamics import dynamics, jump_finding
+
+    dyn = dynamics(design, analysis.program)
+    assert dyn is not None
+    return replace(analysis, dynamics=dyn,
+                   findings=[*analysis.findings, jump_finding(design, dyn)])
+
+
+def _analyse_geometry(design: Design) -> Analysis:
     program = design.program
     units = MotionUnits(design.follower.oscillating)
     omega = design.cam.omega

@@ -43,8 +43,7 @@ def report_dict(analysis: Analysis) -> dict[str, Any]:
         },
         "segments": [_segment(s, analysis) for s in analysis.segments],
         "checks": [f.to_json() for f in analysis.findings],
-        "dynamics": {"jump_speed_rpm": None, "min_contact_force_N": None,
-                     "required_preload_N": None},
+        "dynamics": _dynamics(analysis),
         "verification": _verification(analysis),
         "status": {
             "exit_code": analysis.exit_code,
@@ -89,6 +88,24 @@ def _geometry(analysis: Analysis) -> dict[str, Any]:
     if fol.oscillating:
         out["rest_arm_angle_deg"] = math.degrees(geom.cam.rest)
     return out
+
+
+def _dynamics(analysis: Analysis) -> dict[str, Any]:
+    dyn = analysis.dynamics
+    if dyn is None:
+        return {"jump_speed_rpm": None, "min_contact_force_N": None, "required_preload_N": None,
+                "note": "no spring and follower mass in the design"}
+    return {
+        "jump_speed_rpm": dyn.jump_speed_rpm,
+        "jump_speed_rad_s": dyn.jump_speed_rad_s,
+        "jump_first_at_deg": dyn.jump_at_deg,
+        "min_contact_force_N": dyn.min_force_N,
+        "min_contact_force_at_deg": dyn.min_force_at_deg,
+        "max_contact_force_N": dyn.max_force_N,
+        "required_preload_N": dyn.required_preload_N,
+        "preload_N": dyn.preload_N,
+        "max_camshaft_torque_N_m": dyn.max_torque_N_m,
+    }
 
 
 def _drum_geometry(analysis: Analysis) -> dict[str, Any]:
