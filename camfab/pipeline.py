@@ -100,6 +100,12 @@ def _report_json(analysis: Analysis) -> bytes:
     return render_report_json(analysis)
 
 
+def _report_html(analysis: Analysis) -> bytes:
+    from camfab.export.report_html import render_report_html
+
+    return render_report_html(analysis)
+
+
 def _motion_csv(analysis: Analysis) -> bytes:
     from camfab.export.motion_csv import render_motion_csv
 
@@ -108,7 +114,7 @@ def _motion_csv(analysis: Analysis) -> bytes:
 
 #: output name -> [(file suffix, renderer)]; outputs without an entry are not produced yet.
 RENDERERS: dict[str, list[tuple[str, Callable[[Analysis], bytes]]]] = {
-    "report": [("-report.json", _report_json)],
+    "report": [("-report.html", _report_html), ("-report.json", _report_json)],
     "csv": [("-motion.csv", _motion_csv)],
 }
 

@@ -41,7 +41,8 @@ def test_every_example_design_builds(tmp_path: Path, path: Path) -> None:
 def test_build_output_folder_option_and_summary(tmp_path: Path) -> None:
     result = run_cli("build", str(DESIGNS / "seed-10-4.yaml"), "-o", "out", cwd=tmp_path)
     assert sorted(p.name for p in (tmp_path / "out").iterdir()) == [
-        "seed-10-4-motion.csv", "seed-10-4-report.json", "seed-10-4.dxf", "seed-10-4.stl",
+        "seed-10-4-motion.csv", "seed-10-4-report.html", "seed-10-4-report.json",
+        "seed-10-4.dxf", "seed-10-4.stl",
         "seed-10-4.svg"]
     assert "seed-10-4: FAIL" in result.stdout and result.exit_code == 1
     assert "pressure angle reaches 56.2° at 221.7°" in result.stdout

@@ -175,8 +175,8 @@ def test_failed_build_leaves_earlier_outputs_intact(tmp_path: Path) -> None:
     assert run_cli("build", "d.yaml", cwd=tmp_path).exit_code == 2
     assert report.read_bytes() == before
     assert sorted(p.name for p in report.parent.iterdir()) == [
-        "seed-10-4-motion.csv", "seed-10-4-report.json", "seed-10-4.dxf", "seed-10-4.stl",
-        "seed-10-4.svg"]  # no temporary files left
+        "seed-10-4-motion.csv", "seed-10-4-report.html", "seed-10-4-report.json",
+        "seed-10-4.dxf", "seed-10-4.stl", "seed-10-4.svg"]  # no temporary files left
 
 
 # ---- property-based: mutated designs end in a design or one clean message -------------------

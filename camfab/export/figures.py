@@ -1,0 +1,290 @@
+"""The report's drawings and diagrams as inline SVG, drawn with matplotlib's object-oriented API
+and its SVG backend (no pyplot: its start-up costs more than the drawing).
+
+Every figure is a function of the analysis returning SVG text (no XML header), ready to paste
+into the HTML page. Lengths are millimetres and angles degrees.
+"""
+
+from __future__ import annotations
+
+import io
+import math
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from camfab.motion.program import cycle_angles
+
+if TYPE_CHECKING:
+    from camfab.pipeline import Analysis
+
+#: Cam-angle step of the diagrams: 0.5° draws every feature a reader can see.
+DIAGRAM_STEP = math.radians(0.5)
+
+#: Colours: cut outline, pitch curve, references, violations, follower.
+CUT, PITCH, REFERENCE, BAD, FOLLOWER, WARN = ("#c0392b", "#2c5aa0", "#999999", "#e67e22",
+                                              "#2d7d46", "#d4ac0d")
+
+
+def _figure(width_in: float, height_in: float, **margins: float) -> Any:
+    """A figure with fixed margins (a layout engine would draw every figure twice)."""
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(width_in, height_in))
+    fig.subplots_adjust(**{"left": 0.1, "right": 0.98, "top": 0.93, "bottom": 0.1,
+                           "hspace": 0.12, **margins})
+    return fig
+
+
+def _thin(*arrays: np.ndarray) -> list[np.ndarray]:
+    """Every n-th value of dense arrays (0.05° apart) so lines are drawn every 0.5°: finer than a
+    reader can see, and ten times fewer points to write."""
+    return [a[..., ::10] for a in arrays]
+
+
+def _angle_axis(*axes: Any) -> None:
+    """Cam angle from 0 to 360° with a tick every 60°, and few ticks on the values: every tick is
+    a handful of artists, and ticks are most of the time matplotlib takes here."""
+    from matplotlib.ticker import FixedLocator, MaxNLocator, NullLocator
+
+    for ax in axes:
+        ax.set_xlim(0, 360)
+        # only the bottom plot carries the angle ticks; the segment lines run through all
+        ax.xaxis.set_major_locator(FixedLocator(list(range(0, 361, 60))) if ax is axes[-1]
+                                   else NullLocator())
+        ax.yaxis.set_major_locator(MaxNLocator(nbins=4))
+
+
+def _svg(fig: Any) -> str:
+    from matplotlib.backends.backend_svg import FigureCanvasSVG
+
+    import matplotlib
+
+    FigureCanvasSVG(fig)
+    out = io.StringIO()
+    # text stays text in the SVG (smaller and faster than outlined glyphs); stable ids
+    with matplotlib.rc_context({"svg.fonttype": "none", "svg.hashsalt": "camfab"}):
+        fig.savefig(out, format="svg", metadata={"Date": None})
+    text = out.getvalue()
+    text = text[text.index("<svg"):]
+    # the page does not need the file's RDF metadata block
+    start, end = text.find("<metadata>"), text.find("</metadata>")
+    if start >= 0 and end > start:
+        text = text[:start] + text[end + len("</metadata>"):]
+    return text
+
+
+def _segment_marks(ax: Any, analysis: Analysis, labels: bool) -> None:
+    """Segment boundaries as vertical lines, with the laws written above the top plot."""
+    for seg in analysis.program.segments:
+        ax.axvline(math.degrees(seg.start), color=REFERENCE, linewidth=0.6, linestyle=":")
+        if labels:
+            name = seg.kind if seg.kind == "dwell" else f"{seg.kind}: {seg.law_name}"
+            ax.text(math.degrees(seg.start + seg.span / 2), 1.02, name, ha="center",
+                    va="bottom", fontsize=7, transform=ax.get_xaxis_transform())
+
+
+def motion_diagrams(analysis: Analysis) -> str:
+    """s, v, a and j over the cycle (per radian of cam angle without a speed)."""
+    theta = cycle_angles(DIAGRAM_STEP)
+    units = analysis.units
+    omega = analysis.design.cam.omega
+    motion = analysis.program.evaluate(theta)
+    fig = _figure(9.0, 7.2, left=0.11, top=0.95, bottom=0.07)
+    axes = fig.subplots(4, 1, sharex=True)
+    names = ("displacement", "velocity", "acceleration", "jerk")
+    degrees = np.degrees(theta)
+    for order, ax in enumerate(axes):
+        values = motion[order]
+        if order == 0:
+            values = np.degrees(values) if units.oscillating else values
+            unit = "deg" if units.oscillating else "mm"
+        elif omega is not None:
+            values = units.to_si(order, values, omega)
+            unit = units.unit(order, True)
+        else:
+            unit = units.unit(order, False)
+        ax.plot(degrees, values, color=PITCH, linewidth=1.0)
+        ax.set_ylabel(f"{names[order]}\n({unit})", fontsize=8)
+        ax.axhline(0.0, color=REFERENCE, linewidth=0.5)
+        _segment_marks(ax, analysis, labels=order == 0)
+    axes[-1].set_xlabel("cam angle θ (deg)")
+    _angle_axis(*axes)
+    return _svg(fig)
+
+
+def pressure_and_curvature(analysis: Analysis) -> str:
+    """Pressure angle against its limit, and the radii of curvature against the follower's."""
+    design = analysis.design
+    limit = math.degrees(design.pressure_angle_limit)
+    fig = _figure(9.0, 4.6)
+    top, bottom = fig.subplots(2, 1, sharex=True)
+    geom, dense = analysis.geometry, analysis.drum
+    if geom is not None:
+        theta, phi, pitch, profile = _thin(np.degrees(geom.dense.theta),
+                                           np.degrees(geom.dense.pressure_angle),
+                                           geom.dense.pitch.radius, geom.dense.working.radius)
+        top.plot(theta, phi, color=PITCH, linewidth=1.0, label="pressure angle φ")
+        bottom.plot(theta, _clip(pitch), color=PITCH, linewidth=1.0, label="pitch curve ρ")
+        bottom.plot(theta, _clip(profile), color=CUT, linewidth=1.0, label="profile ρ")
+        radius = geom.cam.follower.radius
+        if radius > 0:
+            bottom.axhline(radius, color=BAD, linewidth=0.8, linestyle="--",
+                           label=f"follower radius {radius:.4g} mm")
+    elif dense is not None:
+        theta, phi, rho = _thin(np.degrees(dense.theta), np.degrees(dense.pressure_angle),
+                                dense.developed_radius)
+        for row, name in ((0, "floor"), (-1, "surface")):
+            top.plot(theta, phi[row], linewidth=1.0,
+                     label=f"φ at the {name} (r = {dense.radii[row]:.4g} mm)")
+            bottom.plot(theta, _clip(rho[row]), linewidth=1.0,
+                        label=f"developed ρ at the {name}")
+        bottom.axhline(dense.drum.roller, color=BAD, linewidth=0.8, linestyle="--",
+                       label=f"roller {dense.drum.roller:.4g} mm")
+        bottom.axhline(-dense.drum.roller, color=BAD, linewidth=0.8, linestyle="--")
+    for sign in (1, -1):
+        top.axhline(sign * limit, color=BAD, linewidth=0.8, linestyle="--")
+    top.set_ylabel("pressure angle (deg)", fontsize=8)
+    bottom.set_ylabel("radius of curvature (mm)", fontsize=8)
+    bottom.set_xlabel("cam angle θ (deg)")
+    _angle_axis(top, bottom)
+    for ax in (top, bottom):
+        ax.legend(fontsize=7, loc="upper right")
+        _segment_marks(ax, analysis, labels=False)
+    return _svg(fig)
+
+
+def _clip(radius: np.ndarray) -> np.ndarray:
+    """Radii for plotting: straight stretches (±∞) and the huge values next to them hidden."""
+    finite = np.abs(radius[np.isfinite(radius)])
+    cap = 4.0 * float(np.median(finite)) if finite.size else 1.0
+    return np.where(np.abs(radius) <= cap, radius, np.nan)
+
+
+def dynamics_diagram(analysis: Analysis) -> str | None:
+    """Contact force and camshaft torque at the design speed (None without them)."""
+    dyn = analysis.dynamics
+    if dyn is None or dyn.force_N is None or dyn.torque_N_m is None:
+        return None
+    fig = _figure(9.0, 4.2)
+    top, bottom = fig.subplots(2, 1, sharex=True)
+    theta, force, static, torque = _thin(np.degrees(dyn.theta), dyn.force_N, dyn.static_N,
+                                         dyn.torque_N_m)
+    top.plot(theta, force, color=PITCH, linewidth=1.0, label="contact force")
+    top.plot(theta, static, color=REFERENCE, linewidth=0.8, label="spring and loads")
+    top.axhline(0.0, color=BAD, linewidth=0.8, linestyle="--")
+    if (force < 0).any():
+        top.fill_between(theta, force, 0, where=force < 0, color=BAD, alpha=0.4,
+                         label="contact lost")
+    bottom.plot(theta, torque, color=FOLLOWER, linewidth=1.0, label="camshaft torque")
+    top.set_ylabel("force (N)", fontsize=8)
+    bottom.set_ylabel("torque (N·m)", fontsize=8)
+    bottom.set_xlabel("cam angle θ (deg)")
+    _angle_axis(top, bottom)
+    for ax in (top, bottom):
+        ax.legend(fontsize=7, loc="upper right")
+        _segment_marks(ax, analysis, labels=False)
+    return _svg(fig)
+
+
+def cam_drawing(analysis: Analysis) -> str | None:
+    """The cam at θ = 0 with its follower, or a drum's groove developed at its surface."""
+    if analysis.geometry is not None:
+        return _disc_drawing(analysis)
+    if analysis.drum is not None:
+        return _drum_drawing(analysis)
+    return None
+
+
+def _disc_drawing(analysis: Analysis) -> str:
+    geom = analysis.geometry
+    assert geom is not None
+    fol = geom.cam.follower
+    fig = _figure(6.4, 6.4, left=0.12, bottom=0.08)
+    ax = fig.subplots()
+    ax.set_aspect("equal")
+    ring = np.vstack((geom.profile.vertices, geom.profile.vertices[:1]))
+    ax.fill(ring[:, 0], ring[:, 1], color="#f4d6d2", zorder=0)
+    ax.plot(ring[:, 0], ring[:, 1], color=CUT, linewidth=1.2, label="cam profile")
+    pitch = np.vstack((geom.pitch.xy, geom.pitch.xy[:1]))
+    if fol.radius > 0:
+        ax.plot(pitch[:, 0], pitch[:, 1], color=PITCH, linewidth=0.8, linestyle="--",
+                label="pitch curve")
+    angle = np.linspace(0, 2 * math.pi, 361)
+    for radius, style, name in ((geom.cam.base_radius, ":", "base circle"),
+                                (geom.cam.prime_radius, "-.", "prime circle")):
+        ax.plot(radius * np.cos(angle), radius * np.sin(angle), color=REFERENCE,
+                linewidth=0.7, linestyle=style, label=name)
+    # where the checks fail, on the profile
+    dense = geom.dense
+    limit = analysis.design.pressure_angle_limit
+    steep = np.abs(dense.pressure_angle) > limit
+    if steep.any():
+        xy = dense.working.xy[steep]
+        ax.plot(xy[:, 0], xy[:, 1], ".", color=WARN, markersize=2,
+                label="pressure angle over the limit")
+    if geom.undercut:
+        cut = geom.working.xy[geom.cut] if geom.cut.any() else dense.working.xy[geom.folds]
+        ax.plot(cut[:, 0], cut[:, 1], ".", color=BAD, markersize=2, label="undercut")
+    _draw_follower(ax, analysis)
+    ax.plot([0], [0], "+", color="black", markersize=10)
+    ax.legend(fontsize=7, loc="lower left")
+    ax.set_title(f"{analysis.design.name} at θ = 0 ({analysis.design.cam.rotation})",
+                 fontsize=9)
+    ax.set_xlabel("x (mm)")
+    ax.set_ylabel("y (mm)")
+    return _svg(fig)
+
+
+def _draw_follower(ax: Any, analysis: Analysis) -> None:
+    """The follower at θ = 0 (the cam frame and the fixed frame coincide there)."""
+    geom = analysis.geometry
+    assert geom is not None
+    cam = geom.cam
+    fol = cam.follower
+    m = analysis.program.evaluate(np.zeros(1))
+    trace = cam.trace(m)[0][0]
+    angle = np.linspace(0, 2 * math.pi, 181)
+    if fol.flat:
+        lines = cam.face_lines(np.zeros(1), m)
+        normal = lines.normal[0]
+        foot = normal * lines.h[0]
+        along = np.array([-normal[1], normal[0]])
+        half = 0.6 * geom.cam.base_radius
+        ends = np.array([foot - half * along, foot + half * along])
+        ax.plot(ends[:, 0], ends[:, 1], color=FOLLOWER, linewidth=2.0, label="follower face")
+    elif fol.radius > 0:
+        ax.plot(trace[0] + fol.radius * np.cos(angle), trace[1] + fol.radius * np.sin(angle),
+                color=FOLLOWER, linewidth=1.5, label="follower")
+    if fol.oscillating:
+        pivot = cam.pivot
+        ax.plot([pivot[0], trace[0]], [pivot[1], trace[1]], color=FOLLOWER, linewidth=1.0)
+        ax.plot([pivot[0]], [pivot[1]], "o", color=FOLLOWER, markersize=4)
+    elif not fol.flat:
+        ax.plot([trace[0], trace[0]], [trace[1], trace[1] + 1.5 * geom.cam.base_radius * 0.5],
+                color=FOLLOWER, linewidth=1.5)
+    ax.plot([trace[0]], [trace[1]], ".", color=FOLLOWER)
+
+
+def _drum_drawing(analysis: Analysis) -> str:
+    from camfab.geometry.drum_mesh import development
+
+    dense = analysis.drum
+    assert dense is not None
+    d = dense.drum
+    dev = development(d, analysis.program, 0.01)
+    fig = _figure(9.0, 3.6, bottom=0.14)
+    ax = fig.subplots()
+    ax.set_aspect("equal")
+    ax.plot([0, dev.width, dev.width, 0, 0], [0, 0, dev.height, dev.height, 0],
+            color=REFERENCE, linewidth=0.7)
+    ax.plot(dev.lower[:, 0], dev.lower[:, 1], color=CUT, linewidth=1.2, label="groove walls")
+    ax.plot(dev.upper[:, 0], dev.upper[:, 1], color=CUT, linewidth=1.2)
+    ax.plot(dev.centre[:, 0], dev.centre[:, 1], color=PITCH, linewidth=0.8, linestyle="--",
+            label="roller axis")
+    ax.set_title(f"{analysis.design.name}: groove developed at the surface (r = {d.radius:.4g}"
+                 " mm), seen from outside", fontsize=9)
+    ax.set_xlabel("around the drum (mm)")
+    ax.set_ylabel("z (mm)")
+    ax.legend(fontsize=7, loc="upper right")
+    return _svg(fig)
