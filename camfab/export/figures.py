@@ -56,9 +56,8 @@ def _angle_axis(*axes: Any) -> None:
 
 
 def _svg(fig: Any) -> str:
-    from matplotlib.backends.backend_svg import FigureCanvasSVG
-
     import matplotlib
+    from matplotlib.backends.backend_svg import FigureCanvasSVG
 
     FigureCanvasSVG(fig)
     out = io.StringIO()
@@ -84,14 +83,36 @@ def _segment_marks(ax: Any, analysis: Analysis, labels: bool) -> None:
                     va="bottom", fontsize=7, transform=ax.get_xaxis_transform())
 
 
-def motion_diagrams(analysis: Analysis) -> str:
-    """s, v, a and j over the cycle (per radian of cam angle without a speed)."""
+def diagrams(analysis: Analysis) -> str:
+    """One figure of the cycle, panel under panel on a shared cam-angle axis: s, v, a and j (per
+    radian of cam angle without a speed), the pressure angle against its limit, the radii of
+    curvature against the follower's, and with dynamics the contact force and camshaft torque.
+    (One figure, not three: each costs matplotlib a fixed share of the report's time.)"""
+    rows = 8 if _has_dynamics(analysis) else 6
+    fig = _figure(9.0, 1.45 * rows + 0.6, left=0.11, top=1 - 0.3 / (1.45 * rows + 0.6),
+                  bottom=0.45 / (1.45 * rows + 0.6))
+    axes = list(fig.subplots(rows, 1, sharex=True))
+    _motion_panels(analysis, axes[:4])
+    _pressure_panels(analysis, axes[4], axes[5])
+    if rows == 8:
+        _dynamics_panels(analysis, axes[6], axes[7])
+    for ax in axes:
+        _segment_marks(ax, analysis, labels=ax is axes[0])
+    axes[-1].set_xlabel("cam angle θ (deg)")
+    _angle_axis(*axes)
+    return _svg(fig)
+
+
+def _has_dynamics(analysis: Analysis) -> bool:
+    dyn = analysis.dynamics
+    return dyn is not None and dyn.force_N is not None and dyn.torque_N_m is not None
+
+
+def _motion_panels(analysis: Analysis, axes: list[Any]) -> None:
     theta = cycle_angles(DIAGRAM_STEP)
     units = analysis.units
     omega = analysis.design.cam.omega
     motion = analysis.program.evaluate(theta)
-    fig = _figure(9.0, 7.2, left=0.11, top=0.95, bottom=0.07)
-    axes = fig.subplots(4, 1, sharex=True)
     names = ("displacement", "velocity", "acceleration", "jerk")
     degrees = np.degrees(theta)
     for order, ax in enumerate(axes):
@@ -107,18 +128,10 @@ def motion_diagrams(analysis: Analysis) -> str:
         ax.plot(degrees, values, color=PITCH, linewidth=1.0)
         ax.set_ylabel(f"{names[order]}\n({unit})", fontsize=8)
         ax.axhline(0.0, color=REFERENCE, linewidth=0.5)
-        _segment_marks(ax, analysis, labels=order == 0)
-    axes[-1].set_xlabel("cam angle θ (deg)")
-    _angle_axis(*axes)
-    return _svg(fig)
 
 
-def pressure_and_curvature(analysis: Analysis) -> str:
-    """Pressure angle against its limit, and the radii of curvature against the follower's."""
-    design = analysis.design
-    limit = math.degrees(design.pressure_angle_limit)
-    fig = _figure(9.0, 4.6)
-    top, bottom = fig.subplots(2, 1, sharex=True)
+def _pressure_panels(analysis: Analysis, top: Any, bottom: Any) -> None:
+    limit = math.degrees(analysis.design.pressure_angle_limit)
     geom, dense = analysis.geometry, analysis.drum
     if geom is not None:
         theta, phi, pitch, profile = _thin(np.degrees(geom.dense.theta),
@@ -144,14 +157,10 @@ def pressure_and_curvature(analysis: Analysis) -> str:
         bottom.axhline(-dense.drum.roller, color=BAD, linewidth=0.8, linestyle="--")
     for sign in (1, -1):
         top.axhline(sign * limit, color=BAD, linewidth=0.8, linestyle="--")
-    top.set_ylabel("pressure angle (deg)", fontsize=8)
-    bottom.set_ylabel("radius of curvature (mm)", fontsize=8)
-    bottom.set_xlabel("cam angle θ (deg)")
-    _angle_axis(top, bottom)
+    top.set_ylabel("pressure angle\n(deg)", fontsize=8)
+    bottom.set_ylabel("radius of\ncurvature (mm)", fontsize=8)
     for ax in (top, bottom):
         ax.legend(fontsize=7, loc="upper right")
-        _segment_marks(ax, analysis, labels=False)
-    return _svg(fig)
 
 
 def _clip(radius: np.ndarray) -> np.ndarray:
@@ -161,13 +170,9 @@ def _clip(radius: np.ndarray) -> np.ndarray:
     return np.where(np.abs(radius) <= cap, radius, np.nan)
 
 
-def dynamics_diagram(analysis: Analysis) -> str | None:
-    """Contact force and camshaft torque at the design speed (None without them)."""
+def _dynamics_panels(analysis: Analysis, top: Any, bottom: Any) -> None:
     dyn = analysis.dynamics
-    if dyn is None or dyn.force_N is None or dyn.torque_N_m is None:
-        return None
-    fig = _figure(9.0, 4.2)
-    top, bottom = fig.subplots(2, 1, sharex=True)
+    assert dyn is not None and dyn.force_N is not None and dyn.torque_N_m is not None
     theta, force, static, torque = _thin(np.degrees(dyn.theta), dyn.force_N, dyn.static_N,
                                          dyn.torque_N_m)
     top.plot(theta, force, color=PITCH, linewidth=1.0, label="contact force")
@@ -177,14 +182,10 @@ def dynamics_diagram(analysis: Analysis) -> str | None:
         top.fill_between(theta, force, 0, where=force < 0, color=BAD, alpha=0.4,
                          label="contact lost")
     bottom.plot(theta, torque, color=FOLLOWER, linewidth=1.0, label="camshaft torque")
-    top.set_ylabel("force (N)", fontsize=8)
+    top.set_ylabel("contact\nforce (N)", fontsize=8)
     bottom.set_ylabel("torque (N·m)", fontsize=8)
-    bottom.set_xlabel("cam angle θ (deg)")
-    _angle_axis(top, bottom)
     for ax in (top, bottom):
         ax.legend(fontsize=7, loc="upper right")
-        _segment_marks(ax, analysis, labels=False)
-    return _svg(fig)
 
 
 def cam_drawing(analysis: Analysis) -> str | None:

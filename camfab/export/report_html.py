@@ -99,8 +99,7 @@ def render_report_html(analysis: Analysis) -> bytes:
         drawing_title=("The groove developed" if design.cam.type == "cylindrical"
                        else "The cam at θ = 0"),
         numbers=_numbers(report), segment_head=head, segment_rows=rows,
-        motion=figures.motion_diagrams(analysis),
-        pressure=figures.pressure_and_curvature(analysis),
-        dynamics=figures.dynamics_diagram(analysis),
+        diagrams=figures.diagrams(analysis),
+        dynamics=analysis.dynamics is not None,
         verification=_verification(report))
     return page.encode("utf-8")
