@@ -77,9 +77,9 @@ def render_report_html(analysis: Analysis) -> bytes:
     import jinja2
 
     from camfab.export import figures
-    from camfab.export.report_json import _clean, report_dict
+    from camfab.export.report_json import report_data
 
-    report = _clean(report_dict(analysis))
+    report = report_data(analysis)
     env = jinja2.Environment(loader=jinja2.PackageLoader("camfab", "templates"),
                              autoescape=True, trim_blocks=True, lstrip_blocks=True)
     errors, warnings = count(analysis.findings, "error"), count(analysis.findings, "warning")

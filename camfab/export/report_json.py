@@ -199,8 +199,14 @@ def _clean(value: Any) -> Any:
     return value
 
 
+def report_data(analysis: Analysis) -> dict[str, Any]:
+    """The report as JSON-ready data: :func:`report_dict` with its floats cleaned."""
+    cleaned: dict[str, Any] = _clean(report_dict(analysis))
+    return cleaned
+
+
 def render_report_json(analysis: Analysis) -> bytes:
     """The report as UTF-8 JSON bytes (stable key order, no timestamps)."""
-    text = json.dumps(_clean(report_dict(analysis)), indent=2, ensure_ascii=False,
+    text = json.dumps(report_data(analysis), indent=2, ensure_ascii=False,
                       allow_nan=False)
     return (text + "\n").encode("utf-8")
