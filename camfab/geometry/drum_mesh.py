@@ -182,17 +182,15 @@ def groove_lift(d: Drum, vertices: Array, theta: Array, centre: Array) -> tuple[
     alpha = np.mod(d.axis_angle(theta) + math.pi, 2 * math.pi) - math.pi
     first = np.searchsorted(phi, alpha - reach)
     last = np.searchsorted(phi, alpha + reach)
-    low = np.full(theta.size, -np.inf)
-    high = np.full(theta.size, np.inf)
-    for k in range(theta.size):
-        window = slice(first[k], last[k])
-        w = r[window] * np.sin(phi[window] - alpha[k])
-        inside = np.abs(w) < d.roller
-        gap = np.sqrt(d.roller**2 - w[inside] ** 2)
-        zk = z[window][inside]
-        below = zk < centre[k]
-        if below.any():
-            low[k] = float(np.max(zk[below] + gap[below]))
-        if (~below).any():
-            high[k] = float(np.min(zk[~below] - gap[~below]))
+    # every angle's window of vertices at once: (angles, widest window), padded and masked
+    index = first[:, None] + np.arange(max(1, int(np.max(last - first))))[None, :]
+    present = index < last[:, None]
+    index = np.minimum(index, phi.size - 1)
+    w = r[index] * np.sin(phi[index] - alpha[:, None])
+    reachable = present & (np.abs(w) < d.roller)
+    gap = np.sqrt(np.maximum(d.roller**2 - w**2, 0.0))
+    zk = z[index]
+    below = zk < centre[:, None]
+    low = np.max(np.where(reachable & below, zk + gap, -np.inf), axis=1)
+    high = np.min(np.where(reachable & ~below, zk - gap, np.inf), axis=1)
     return low, high
