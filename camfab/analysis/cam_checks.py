@@ -89,14 +89,15 @@ def offset_side(design: Design) -> str | None:
     return "+X" if design.cam.sigma > 0 else "-X"
 
 
-def _fmt(value: float) -> str:
+def fmt(value: float) -> str:
+    """A number in a finding's message: four significant digits."""
     return f"{value:.4g}"
 
 
 def where(ranges: tuple[Range, ...]) -> str:
     if not ranges:
         return "a point too small to resolve"
-    return ", ".join(f"{_fmt(a)}°" if _fmt(a) == _fmt(b) else f"{_fmt(a)}°–{_fmt(b)}°"
+    return ", ".join(f"{fmt(a)}°" if fmt(a) == fmt(b) else f"{fmt(a)}°–{fmt(b)}°"
                      for a, b in ranges)
 
 
@@ -108,11 +109,11 @@ def pressure_angle_finding(design: Design, geom: DiscGeometry, numbers: CamNumbe
     dense = geom.dense
     over = ranges_deg(dense.theta, np.degrees(np.abs(dense.pressure_angle)) > limit)
     if not over:
-        message = f"largest pressure angle {_fmt(value)}° at {_fmt(worst.at_deg or 0.0)}°"
+        message = f"largest pressure angle {fmt(value)}° at {fmt(worst.at_deg or 0.0)}°"
         if value == 0.0 and design.follower.type == "flat" and not design.follower.oscillating:
             message = "a flat face perpendicular to its motion has no pressure angle"
         return Finding("pressure_angle", True, "error",
-                       f"{message}, within the limit {_fmt(limit)}°", value, limit, "deg")
+                       f"{message}, within the limit {fmt(limit)}°", value, limit, "deg")
     side = offset_side(design)
     advice = "a larger base radius or a longer rise or return lowers it"
     if side is not None:
@@ -120,8 +121,8 @@ def pressure_angle_finding(design: Design, geom: DiscGeometry, numbers: CamNumbe
                   + advice)
     return Finding(
         "pressure_angle", False, "error",
-        f"pressure angle reaches {_fmt(value)}° at {_fmt(worst.at_deg or 0.0)}°, over the limit "
-        f"{_fmt(limit)}° at {where(over)}: {advice}",
+        f"pressure angle reaches {fmt(value)}° at {fmt(worst.at_deg or 0.0)}°, over the limit "
+        f"{fmt(limit)}° at {where(over)}: {advice}",
         value, limit, "deg", over)
 
 
@@ -130,7 +131,7 @@ def undercut_finding(design: Design, geom: DiscGeometry, numbers: CamNumbers) ->
     fol = design.follower
     ranges = numbers.undercut_ranges
     motion = (f"the cam that is really cut moves the follower up to "
-              f"{_fmt(geom.lift.max_mm)} mm off the design at {_fmt(geom.lift.at_deg)}°")
+              f"{fmt(geom.lift.max_mm)} mm off the design at {fmt(geom.lift.at_deg)}°")
     if fol.type == "flat":
         worst = numbers.profile_min_convex if not geom.folds.any() else extreme(
             geom.dense.theta, geom.dense.working.radius, largest=False)
@@ -138,33 +139,33 @@ def undercut_finding(design: Design, geom: DiscGeometry, numbers: CamNumbers) ->
         if not geom.undercut:
             return Finding("undercut", True, "error",
                            f"the profile's radius of curvature stays positive (smallest "
-                           f"{_fmt(value or 0.0)} mm at {_fmt(worst.at_deg or 0.0)}°)",
+                           f"{fmt(value or 0.0)} mm at {fmt(worst.at_deg or 0.0)}°)",
                            value, 0.0, "mm")
         need = ""
         if not fol.oscillating and value is not None:
             base = design.cam.base_radius or 0.0
-            need = f"; a base radius above {_fmt(base - value)} mm removes the cusp"
+            need = f"; a base radius above {fmt(base - value)} mm removes the cusp"
         rho = "ρ" if fol.oscillating else "ρ = Rb + s + s″"
         return Finding("undercut", False, "error",
                        f"the flat face's envelope has a cusp (its radius of curvature {rho} falls "
-                       f"to {_fmt(value or 0.0)} mm) at {where(ranges)}: {motion}{need}",
+                       f"to {fmt(value or 0.0)} mm) at {where(ranges)}: {motion}{need}",
                        value, 0.0, "mm", ranges)
     radius = fol.trace_radius
     smallest = numbers.pitch_min_convex
     value = smallest.value
     if not geom.undercut:
-        at = f" at {_fmt(smallest.at_deg or 0.0)}°" if value is not None else ""
+        at = f" at {fmt(smallest.at_deg or 0.0)}°" if value is not None else ""
         shape = {"knife": "knife edge", "roller": "roller", "mushroom": "mushroom face"}[fol.type]
         return Finding("undercut", True, "error",
-                       f"the pitch curve's smallest convex radius {_fmt(value or 0.0)} mm{at} "
-                       f"is larger than the {shape} radius {_fmt(radius)} mm", value, radius,
+                       f"the pitch curve's smallest convex radius {fmt(value or 0.0)} mm{at} "
+                       f"is larger than the {shape} radius {fmt(radius)} mm", value, radius,
                        "mm")
     what = "roller" if fol.type == "roller" else "mushroom face"
     if geom.folds.any() and value is not None:
-        cause = (f"the {what} radius {_fmt(radius)} mm exceeds the pitch curve's convex radius "
-                 f"of curvature (down to {_fmt(value)} mm) at {where(ranges)}: the envelope "
+        cause = (f"the {what} radius {fmt(radius)} mm exceeds the pitch curve's convex radius "
+                 f"of curvature (down to {fmt(value)} mm) at {where(ranges)}: the envelope "
                  f"folds over and is cut away")
-        need = (f"a {what} radius below {_fmt(value)} mm, a larger base radius or a longer rise "
+        need = (f"a {what} radius below {fmt(value)} mm, a larger base radius or a longer rise "
                 f"or return avoids it")
     else:
         cause = (f"the {what}'s envelope crosses itself at {where(ranges)}: the {what} cannot "
@@ -184,10 +185,10 @@ def curvature_finding(design: Design, geom: DiscGeometry, numbers: CamNumbers) -
     dense = geom.dense
     low = ranges_deg(dense.theta, (dense.working.radius > 0) & (dense.working.radius < margin))
     ok = not low and not geom.undercut
-    message = (f"smallest convex radius of the profile {_fmt(value or 0.0)} mm at "
-               f"{_fmt(smallest.at_deg or 0.0)}°, "
-               + (f"at least {_fmt(margin)} mm" if ok else
-                  f"below the required {_fmt(margin)} mm at {where(low)}"))
+    message = (f"smallest convex radius of the profile {fmt(value or 0.0)} mm at "
+               f"{fmt(smallest.at_deg or 0.0)}°, "
+               + (f"at least {fmt(margin)} mm" if ok else
+                  f"below the required {fmt(margin)} mm at {where(low)}"))
     return Finding("curvature", ok, "error", message, value, margin, "mm", low)
 
 
@@ -203,19 +204,19 @@ def face_width_finding(design: Design, numbers: CamNumbers) -> Finding | None:
     low, high = numbers.face_contact_mm
     if fol.oscillating:
         needed = high - low
-        span = f"from {_fmt(low)} to {_fmt(high)} mm along the face from the pivot's foot"
+        span = f"from {fmt(low)} to {fmt(high)} mm along the face from the pivot's foot"
     else:
         needed = 2.0 * max(abs(low), abs(high))
-        span = f"from {_fmt(low)} to {_fmt(high)} mm of the stem axis"
+        span = f"from {fmt(low)} to {fmt(high)} mm of the stem axis"
     if fol.face_width is None:
         return Finding("face_width", True, "error",
-                       f"contact runs {span}: the face must be at least {_fmt(needed)} mm wide",
+                       f"contact runs {span}: the face must be at least {fmt(needed)} mm wide",
                        needed, None, "mm")
     ok = fol.face_width >= needed
     verdict = "covers it" if ok else "is too narrow: the cam edge would dig into the face"
     return Finding("face_width", ok, "error",
-                   f"contact runs {span}, needing a face {_fmt(needed)} mm wide; the face of "
-                   f"{_fmt(fol.face_width)} mm {verdict}", needed, fol.face_width, "mm")
+                   f"contact runs {span}, needing a face {fmt(needed)} mm wide; the face of "
+                   f"{fmt(fol.face_width)} mm {verdict}", needed, fol.face_width, "mm")
 
 
 def cutter_finding(design: Design, geom: DiscGeometry, numbers: CamNumbers) -> Finding | None:
@@ -248,16 +249,16 @@ def cutter_finding(design: Design, geom: DiscGeometry, numbers: CamNumbers) -> F
     spots = ranges_deg(dense.theta, tight | deep)
     smallest = numbers.profile_min_concave
     if not spots:
-        shape = (f"smallest concave radius {_fmt(smallest.value)} mm at "
-                 f"{_fmt(smallest.at_deg or 0.0)}°" if smallest.value is not None
+        shape = (f"smallest concave radius {fmt(smallest.value)} mm at "
+                 f"{fmt(smallest.at_deg or 0.0)}°" if smallest.value is not None
                  else "the profile has no concave part")
         return Finding("cutter", True, "error",
-                       f"a cutter of radius {_fmt(radius)} mm follows the whole profile "
+                       f"a cutter of radius {fmt(radius)} mm follows the whole profile "
                        f"({shape})", smallest.value, radius, "mm")
     if tight.any():
         value = float(np.min(-rw[tight]))
-        cause = f"its concave radius falls to {_fmt(value)} mm"
-        advice = f"a cutter radius below {_fmt(value)} mm cuts it"
+        cause = f"its concave radius falls to {fmt(value)} mm"
+        advice = f"a cutter radius below {fmt(value)} mm cuts it"
     else:
         value = 0.0
         cause = "it has a sharp hollow (a velocity step of the motion makes one)"
@@ -265,10 +266,10 @@ def cutter_finding(design: Design, geom: DiscGeometry, numbers: CamNumbers) -> F
     milled = lift_check(geom.cam, design.program, Profile.from_points(closed))
     return Finding(
         "cutter", False, "error",
-        f"a cutter of radius {_fmt(radius)} mm cannot follow the profile at {where(spots)}: "
-        f"{cause}; it leaves up to {_fmt(float(depth.max()))} mm of material there, and the cam "
-        f"as milled moves the follower up to {_fmt(milled.max_mm)} mm off the design at "
-        f"{_fmt(milled.at_deg)}°; {advice}", value, radius, "mm", spots)
+        f"a cutter of radius {fmt(radius)} mm cannot follow the profile at {where(spots)}: "
+        f"{cause}; it leaves up to {fmt(float(depth.max()))} mm of material there, and the cam "
+        f"as milled moves the follower up to {fmt(milled.max_mm)} mm off the design at "
+        f"{fmt(milled.at_deg)}°; {advice}", value, radius, "mm", spots)
 
 
 def cam_findings(design: Design, geom: DiscGeometry,

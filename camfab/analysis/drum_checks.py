@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from camfab.analysis.cam_checks import Extreme, extreme, where
+from camfab.analysis.cam_checks import Extreme, extreme, fmt, where
 from camfab.analysis.findings import Finding
 from camfab.analysis.ranges import ranges_deg
 from camfab.design import Design
@@ -52,10 +52,6 @@ def drum_numbers(dense: DrumDense, segment_count: int) -> DrumNumbers:
     )
 
 
-def _fmt(value: float) -> str:
-    return f"{value:.4g}"
-
-
 def drum_pressure_finding(design: Design, dense: DrumDense, numbers: DrumNumbers) -> Finding:
     """|φ| at the groove's floor (tan φ = s′/r, steepest at the smallest radius) against
     ``limits.pressure_angle``."""
@@ -63,17 +59,17 @@ def drum_pressure_finding(design: Design, dense: DrumDense, numbers: DrumNumbers
     root = numbers.root_pressure
     value = root.value or 0.0
     over = ranges_deg(dense.theta, np.degrees(np.abs(dense.pressure_angle[0])) > limit)
-    also = (f"(at the pitch radius {_fmt(numbers.pitch_pressure.value or 0.0)}°, at the surface "
-            f"{_fmt(numbers.outer_pressure.value or 0.0)}°)")
+    also = (f"(at the pitch radius {fmt(numbers.pitch_pressure.value or 0.0)}°, at the surface "
+            f"{fmt(numbers.outer_pressure.value or 0.0)}°)")
     if not over:
         return Finding("pressure_angle", True, "error",
-                       f"largest pressure angle at the groove's floor {_fmt(value)}° at "
-                       f"{_fmt(root.at_deg or 0.0)}° {also}, within the limit {_fmt(limit)}°",
+                       f"largest pressure angle at the groove's floor {fmt(value)}° at "
+                       f"{fmt(root.at_deg or 0.0)}° {also}, within the limit {fmt(limit)}°",
                        value, limit, "deg")
     return Finding(
         "pressure_angle", False, "error",
-        f"pressure angle at the groove's floor reaches {_fmt(value)}° at "
-        f"{_fmt(root.at_deg or 0.0)}° {also}, over the limit {_fmt(limit)}° at {where(over)}: "
+        f"pressure angle at the groove's floor reaches {fmt(value)}° at "
+        f"{fmt(root.at_deg or 0.0)}° {also}, over the limit {fmt(limit)}° at {where(over)}: "
         f"the roller binds in the groove; a larger drum radius or a longer rise or return "
         f"lowers it", value, limit, "deg", over)
 
@@ -88,16 +84,16 @@ def groove_finding(design: Design, dense: DrumDense, numbers: DrumNumbers) -> Fi
     if smallest.value is None:
         return Finding("groove", True, "error", "the groove runs straight round the drum",
                        None, roller, "mm")
-    at = (f"{_fmt(smallest.value)} mm at {_fmt(smallest.at_deg or 0.0)}° (radius "
-          f"{_fmt(numbers.min_developed_radius_at_mm or 0.0)} mm)")
+    at = (f"{fmt(smallest.value)} mm at {fmt(smallest.at_deg or 0.0)}° (radius "
+          f"{fmt(numbers.min_developed_radius_at_mm or 0.0)} mm)")
     if not ranges:
         return Finding("groove", True, "error",
                        f"the developed groove's smallest radius of curvature {at} is larger than "
-                       f"the roller's {_fmt(roller)} mm", smallest.value, roller, "mm")
+                       f"the roller's {fmt(roller)} mm", smallest.value, roller, "mm")
     return Finding(
         "groove", False, "error",
         f"the developed groove bends tighter than the roller: its radius of curvature falls to "
-        f"{at}, under the roller's {_fmt(roller)} mm, at {where(ranges)}; the wall on the "
+        f"{at}, under the roller's {fmt(roller)} mm, at {where(ranges)}; the wall on the "
         f"inside of the bend folds over and the roller cannot follow it: a larger drum radius, "
         f"a longer segment or a smaller roller avoids it", smallest.value, roller, "mm", ranges)
 

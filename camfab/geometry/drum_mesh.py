@@ -41,24 +41,25 @@ class Tube:
 def stations(d: Drum, program: MotionProgram, tolerance: float) -> Array:
     """Cam angles (rad, one turn, joints included) at which the groove's chords stay within
     *tolerance* (mm) of the walls developed at the drum's surface."""
+    segment, theta, m = program.segment_grid(ANALYSIS_STEP)
+    r = d.radius
+    speed = np.hypot(r, m[1])
+    rho = np.abs(d.developed_radius(m[1], m[2], r))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        # a chord of the outer wall (radius ρ + R, moving at speed·(ρ + R)/ρ) strays
+        # (speed·(ρ+R)/ρ·Δθ)²/(8(ρ+R)) from it
+        step = np.sqrt(8.0 * tolerance / (rho + d.roller)) * rho / speed
+    density = 1.0 / np.where(np.isfinite(step), np.minimum(step, MAX_STATION_STEP),
+                             MAX_STATION_STEP)
     out = []
     for seg in program.segments:
-        t = np.linspace(0.0, seg.span, max(3, math.ceil(seg.span / ANALYSIS_STEP) + 1))
-        m = seg.evaluate_local(t)
-        r = d.radius
-        speed = np.hypot(r, m[1])
-        rho = np.abs(d.developed_radius(m[1], m[2], r))
-        with np.errstate(invalid="ignore", divide="ignore"):
-            # a chord of the outer wall (radius ρ + R, moving at speed·(ρ + R)/ρ) strays
-            # (speed·(ρ+R)/ρ·Δθ)²/(8(ρ+R)) from it
-            step = np.sqrt(8.0 * tolerance / (rho + d.roller)) * rho / speed
-        step = np.where(np.isfinite(step), np.minimum(step, MAX_STATION_STEP), MAX_STATION_STEP)
-        density = 1.0 / step
-        cumulative = np.concatenate(([0.0], np.cumsum(0.5 * (density[1:] + density[:-1])
+        # stations placed evenly in the integral of the density, segment by segment
+        mine = segment == seg.index
+        t, rate = theta[mine], density[mine]
+        cumulative = np.concatenate(([0.0], np.cumsum(0.5 * (rate[1:] + rate[:-1])
                                                       * np.diff(t))))
         count = max(2, math.ceil(cumulative[-1]))
-        local = np.interp(np.linspace(0.0, cumulative[-1], count + 1), cumulative, t)
-        out.append(seg.start + local[:-1])
+        out.append(np.interp(np.linspace(0.0, cumulative[-1], count + 1), cumulative, t)[:-1])
     return np.concatenate(out)
 
 
