@@ -21,10 +21,10 @@ import statistics
 import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
+from timing import ROOT, compile_package, wall
+
 DEFAULT_DESIGN = ROOT / "designs" / "seed-10-4.yaml"
 
 #: Targets of the disc-cam build (issue: end to end under 1.5 s and 1.3× the import floor).
@@ -66,20 +66,12 @@ def library_imports(design: Path, out: Path) -> list[str]:
     return sorted(set(statements))
 
 
-def wall(args: list[str]) -> float:
-    start = time.perf_counter()
-    subprocess.run(args, check=False, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
-                   cwd=ROOT)
-    return time.perf_counter() - start
-
-
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("design", nargs="?", type=Path, default=DEFAULT_DESIGN)
     parser.add_argument("--runs", type=int, default=15)
     options = parser.parse_args()
-    # as installed: byte-compiled (the build then reads bytecode even where writing it is off)
-    subprocess.run([sys.executable, "-m", "compileall", "-q", str(ROOT / "camfab")], check=True)
+    compile_package()
     with tempfile.TemporaryDirectory() as folder:
         out = Path(folder) / "exports"
         text = options.design.read_text()

@@ -13,13 +13,13 @@ from __future__ import annotations
 
 import argparse
 import statistics
-import subprocess
 import sys
 import tempfile
 import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
+from timing import ROOT, compile_package, wall
+
 DEFAULT_DESIGN = ROOT / "designs" / "demo-cylindrical.yaml"
 
 MAX_SOLID_S = 0.3
@@ -45,15 +45,10 @@ def solid_time(design_path: Path, runs: int) -> tuple[float, int]:
 
 def build_time(design_path: Path, runs: int) -> float:
     """Median wall seconds of ``camfab build`` in a fresh process."""
-    subprocess.run([sys.executable, "-m", "compileall", "-q", str(ROOT / "camfab")], check=True)
-    times = []
+    compile_package()
     with tempfile.TemporaryDirectory() as folder:
-        for _ in range(runs + 1):
-            start = time.perf_counter()
-            subprocess.run([sys.executable, "-m", "camfab", "build", str(design_path), "-o",
-                            folder], check=False, stdout=subprocess.DEVNULL,
-                           stderr=subprocess.DEVNULL, cwd=ROOT)
-            times.append(time.perf_counter() - start)
+        command = [sys.executable, "-m", "camfab", "build", str(design_path), "-o", folder]
+        times = [wall(command) for _ in range(runs + 1)]
     return statistics.median(times[1:])
 
 

@@ -15,7 +15,8 @@ import subprocess
 import sys
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
+from timing import ROOT, compile_package
+
 DEFAULT_DESIGN = ROOT / "designs" / "seed-jump-eccentric.yaml"
 
 MAX_REPORT_S = 0.6
@@ -38,7 +39,7 @@ def main() -> int:
     parser.add_argument("design", nargs="?", type=Path, default=DEFAULT_DESIGN)
     parser.add_argument("--runs", type=int, default=7)
     options = parser.parse_args()
-    subprocess.run([sys.executable, "-m", "compileall", "-q", str(ROOT / "camfab")], check=True)
+    compile_package()
     times, size = [], 0
     for _ in range(options.runs):
         out = subprocess.run([sys.executable, "-c", _RUN, str(options.design)], cwd=ROOT,
