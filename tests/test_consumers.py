@@ -86,6 +86,20 @@ def test_openscad_extrudes_the_cut_layer_to_our_volume(path: Path, tmp_path: Pat
         assert abs(mesh.volume - area * thickness) <= allowance
 
 
+def less_prism(tmp_path: Path, name: str, y: float, r: float, height: float,
+               sides: int) -> tuple[float, float]:
+    """OpenSCAD imports our STL and takes an upright prism of *sides* (radius *r*, centred at
+    (0, *y*), from z = −1 up *height*) out of it; the result must be a clean closed solid.
+    Returns its volume and our STL's (mm³)."""
+    mesh, messages = openscad(tmp_path, (
+        f'difference() {{ import("{name}.stl"); '
+        f'translate([0, {y!r}, -1]) cylinder(r={r!r}, h={height!r}, $fn={sides}); }}\n'))
+    assert "WARNING" not in messages and "ERROR" not in messages, messages
+    assert mesh.is_watertight and mesh.is_winding_consistent
+    ours = trimesh.load(tmp_path / f"{name}.stl", file_type="stl")
+    return mesh.volume, ours.volume
+
+
 @pytest.mark.parametrize("path", PLATES, ids=[p.stem for p in PLATES])
 def test_openscad_takes_the_stl_into_a_boolean(path: Path, tmp_path: Path) -> None:
     design, _ = written(path, tmp_path)
@@ -94,22 +108,9 @@ def test_openscad_takes_the_stl_into_a_boolean(path: Path, tmp_path: Path) -> No
     # a 48-sided prism through the plate, wholly inside the base circle's material on −Y
     r, y = (base - bore) / 4, -(base + bore) / 2
     thickness = design.cam.thickness
-    mesh, messages = openscad(tmp_path, (
-        f'difference() {{ import("{design.name}.stl"); '
-        f'translate([0, {y!r}, -1]) cylinder(r={r!r}, h={thickness + 2!r}, $fn=48); }}\n'))
-    assert "WARNING" not in messages and "ERROR" not in messages, messages
-    assert mesh.is_watertight and mesh.is_winding_consistent
-    ours = trimesh.load(tmp_path / f"{design.name}.stl", file_type="stl")
+    volume, ours = less_prism(tmp_path, design.name, y, r, thickness + 2, 48)
     prism = 24 * r * r * math.sin(2 * math.pi / 48) * thickness
-    assert mesh.volume == pytest.approx(ours.volume - prism, rel=1e-6)
-
-
-#: What admesh must not have had to repair. ("Normals fixed" is left out: admesh recomputes the
-#: normal of every facet in float32, and for the few sliver facets where a boolean meets the
-#: drum's surface its own rounding disagrees with the stored normal; the test checks the stored
-#: normals against the winding in double precision instead.)
-ADMESH_CLEAN = ("Degenerate facets", "Edges fixed", "Facets removed", "Facets added",
-                "Facets reversed", "Backwards edges", "Total disconnected facets")
+    assert volume == pytest.approx(ours - prism, rel=1e-6)
 
 
 @pytest.mark.parametrize("path", DRUMS, ids=[p.stem for p in DRUMS])
@@ -119,15 +120,18 @@ def test_openscad_takes_the_drum_into_a_boolean(path: Path, tmp_path: Path) -> N
     assert cam.radius is not None and cam.groove_depth is not None and cam.length is not None
     inner = (cam.bore or 0.0) / 2
     r = (inner + cam.radius - cam.groove_depth) / 2  # between the bore and the groove's floor
-    mesh, messages = openscad(tmp_path, (
-        f'difference() {{ import("{design.name}.stl"); '
-        f'translate([0, 0, -1]) cylinder(r={r!r}, h={cam.length + 2!r}, $fn=96); }}\n'))
-    assert "WARNING" not in messages and "ERROR" not in messages, messages
-    assert mesh.is_watertight and mesh.is_winding_consistent
-    ours = trimesh.load(tmp_path / f"{design.name}.stl", file_type="stl")
+    volume, ours = less_prism(tmp_path, design.name, 0.0, r, cam.length + 2, 96)
     # the 96-gon's area less the bore's polygon (both within 1e-6 of their circles here)
     removed = (48 * r * r * math.sin(2 * math.pi / 96) - math.pi * inner * inner) * cam.length
-    assert mesh.volume == pytest.approx(ours.volume - removed, rel=1e-4)
+    assert volume == pytest.approx(ours - removed, rel=1e-4)
+
+
+#: What admesh must not have had to repair. ("Normals fixed" is left out: admesh recomputes the
+#: normal of every facet in float32, and for the few sliver facets where a boolean meets the
+#: drum's surface its own rounding disagrees with the stored normal; the test checks the stored
+#: normals against the winding in double precision instead.)
+ADMESH_CLEAN = ("Degenerate facets", "Edges fixed", "Facets removed", "Facets added",
+                "Facets reversed", "Backwards edges", "Total disconnected facets")
 
 
 @pytest.mark.parametrize("path", SOLIDS, ids=[p.stem for p in SOLIDS])
