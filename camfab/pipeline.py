@@ -24,6 +24,7 @@ if TYPE_CHECKING:
     from camfab.analysis.cam_checks import CamNumbers
     from camfab.analysis.drum_checks import DrumNumbers
     from camfab.analysis.dynamics import Dynamics
+    from camfab.analysis.shape_numbers import ShapeNumbers
     from camfab.geometry.disc_geometry import DiscGeometry
     from camfab.geometry.drum import DrumDense
     from camfab.verification import Verification
@@ -46,6 +47,7 @@ class Analysis:
     verification: Verification | None = None
     drum: DrumDense | None = None
     dynamics: Dynamics | None = None
+    shape: ShapeNumbers | None = None
 
     @property
     def exit_code(self) -> int:
@@ -59,12 +61,15 @@ def analyse(design: Design) -> Analysis:
     from dataclasses import replace
 
     analysis = _analyse_geometry(design)
-    if design.spring is None or design.follower.mass is None:
+    if design.follower.mass is None:
         return analysis
     from camfab.analysis.dynamics import dynamics, jump_finding
 
     dyn = dynamics(design, analysis.program)
-    assert dyn is not None
+    if dyn is None:
+        return analysis
+    if design.spring is None:  # the spring force it needs, and no spring to check
+        return replace(analysis, dynamics=dyn)
     return replace(analysis, dynamics=dyn,
                    findings=[*analysis.findings, jump_finding(design, dyn)])
 
@@ -83,7 +88,7 @@ def _analyse_geometry(design: Design) -> Analysis:
         drum_nums = drum_numbers(dense, len(program.segments))
         findings = [*drum_findings(design, dense, drum_nums), *findings]
         return Analysis(design, program, units, stats, findings, numbers=drum_nums, drum=dense)
-    if design.cam.type != "disc":
+    if design.cam.type != "disc" and not design.cam.shaped:
         return Analysis(design, program, units, stats, findings)
     from camfab.analysis.cam_checks import cam_findings, cam_numbers
     from camfab.geometry.disc_geometry import disc_geometry
@@ -91,7 +96,12 @@ def _analyse_geometry(design: Design) -> Analysis:
     geometry = disc_geometry(design)
     numbers = cam_numbers(geometry, len(program.segments))
     findings = [*cam_findings(design, geometry, numbers), *findings]
-    return Analysis(design, program, units, stats, findings, geometry, numbers)
+    shape = None
+    if design.cam.shaped:
+        from camfab.analysis.shape_numbers import shape_numbers
+
+        shape = shape_numbers(design, program)
+    return Analysis(design, program, units, stats, findings, geometry, numbers, shape=shape)
 
 
 def _report_json(analysis: Analysis) -> bytes:

@@ -242,8 +242,8 @@ def test_mutated_values_build_or_fail_cleanly(data) -> None:
 
 def test_a_cam_type_not_built_yet_is_named_before_its_fields(tmp_path: Path) -> None:
     (tmp_path / "ca.yaml").write_text(
-        "name: ca\ncam:\n  type: circular-arc\n  base_radius: 30\n  nose_radius: 5\n"
-        "  lift: 20\n  lift_angle: 75\nfollower: {type: flat}\n")
+        "name: ca\ncam:\n  type: linear\n  stroke: 300\n  base_height: 5\n"
+        "follower: {type: flat}\n")
     result = run_cli("check", "ca.yaml", cwd=tmp_path)
     assert result.exit_code == 2
-    assert result.stderr.startswith("ca.yaml:3: cam.type: 'circular-arc' cams are not built")
+    assert result.stderr.startswith("ca.yaml:3: cam.type: 'linear' cams are not built")

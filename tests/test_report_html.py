@@ -29,7 +29,8 @@ def test_report_holds_every_check_and_its_figures(name: str) -> None:
     for finding in analysis.findings:
         assert f"<td>{finding.id}</td>" in page
     assert len(re.findall(r"<svg[ >]", page)) >= 2  # the drawing and the diagrams
-    assert ('id="dynamics"' in page) == (analysis.dynamics is not None)
+    dyn = analysis.dynamics
+    assert ('id="dynamics"' in page) == (dyn is not None and dyn.force_N is not None)
     assert "<metadata>" not in page
     # the verification's numbers are on the page
     assert "max lift error mm" in page

@@ -234,7 +234,7 @@ def cutter_finding(design: Design, geom: DiscGeometry, numbers: CamNumbers) -> F
     from camfab.geometry.profile import Profile
 
     dense, tol = geom.dense, geom.tolerance
-    part = geom.profile.vertices
+    part = geom.outline_points()
     closed = closing(part, radius, 0.25 * tol)
     depth = uncut_depth(part, closed, dense.working.xy, 2.0 * tol)
     rw = dense.working.radius

@@ -9,8 +9,11 @@ the follower above the cam). Along the follower's motion, compression positive:
 Contact needs F ≥ 0 everywhere. The follower jumps off the cam (undamped) above
 ω_j² = min over s″ < 0 of (k(δ₀ + s) + F_ext (+ m g)) / (−m s″); the preload needed at the design
 speed is max[−m ω² s″ − c ω s′ − k s − F_ext (− m g)], and the camshaft torque without friction
-is T = F s′. An oscillating follower's mass and spring are taken at its trace point, along its
-arc (s = arm length × swing). SI units throughout: N, m, rad/s, N·m.
+is T = F s′. The spring force that keeps the follower on the cam at the design speed must reach
+max[−m ω² s″ − c ω s′ − F_ext (− m g)] where that is largest: a follower mass and a speed alone
+give this (the textbooks' "minimum spring force"), before any spring is chosen. An oscillating
+follower's mass and spring are taken at its trace point, along its arc (s = arm length × swing).
+SI units throughout: N, m, rad/s, N·m.
 """
 
 from __future__ import annotations
@@ -37,7 +40,9 @@ class Dynamics:
     """Contact force and torque over the cycle, and the numbers derived from them.
 
     ``theta`` (rad) with ``force_N`` and ``torque_N_m`` at the design speed (None without a
-    speed); ``static_N`` is the spring's and the loads' part alone (F at ω = 0).
+    speed or a spring); ``static_N`` is the spring's and the loads' part alone (F at ω = 0).
+    ``required_spring_force_N`` is the largest spring force the follower needs to stay on the
+    cam at the design speed, at ``required_spring_force_at_deg``.
     """
 
     theta: Array
@@ -52,6 +57,8 @@ class Dynamics:
     min_force_at_deg: float | None
     max_force_N: float | None
     max_torque_N_m: float | None
+    required_spring_force_N: float | None = None
+    required_spring_force_at_deg: float | None = None
 
     @property
     def jump_speed_rpm(self) -> float | None:
@@ -67,14 +74,25 @@ def _trace_scale(design: Design) -> float:
 
 
 def dynamics(design: Design, program: MotionProgram) -> Dynamics | None:
-    """The dynamics of *design*, or None without a spring and a follower mass."""
-    spring, mass = design.spring, design.follower.mass
-    if spring is None or mass is None:
+    """The dynamics of *design*, or None without a follower mass (or without both a spring and
+    a speed)."""
+    spring, mass, omega = design.spring, design.follower.mass, design.cam.omega
+    if mass is None or (spring is None and omega is None):
         return None
     segment, theta, m = program.segment_grid(STEP)
     del segment
     scale = _trace_scale(design)
     s, ds, dds = m[0] * scale, m[1] * scale, m[2] * scale  # m, m/rad, m/rad²
+    needed = needed_at = None
+    if omega is not None:
+        damping, load = (0.0, 0.0) if spring is None else (spring.damping, spring.external_load)
+        weight = mass * G if spring is not None and spring.gravity else 0.0
+        pull = -(mass * omega**2 * dds + damping * omega * ds + load + weight)
+        worst = int(np.argmax(pull))
+        needed, needed_at = max(0.0, float(pull[worst])), math.degrees(float(theta[worst]))
+    if spring is None:
+        return Dynamics(theta, None, None, np.zeros_like(theta), None, None, None, 0.0, None,
+                        None, None, None, needed, needed_at)
     k = spring.rate * 1000.0  # N/m
     preload = spring.preload if spring.preload is not None else k * (
         (spring.initial_compression or 0.0) / 1000.0)
@@ -88,7 +106,6 @@ def dynamics(design: Design, program: MotionProgram) -> Dynamics | None:
         index = int(np.argmin(ratio))
         jump = math.sqrt(max(float(ratio[index]), 0.0))
         jump_at = math.degrees(float(theta[falling][index]))
-    omega = design.cam.omega
     force = torque = None
     required = min_force = min_at = max_force = max_torque = None
     if omega is not None:
@@ -100,7 +117,7 @@ def dynamics(design: Design, program: MotionProgram) -> Dynamics | None:
         max_torque = float(np.max(np.abs(torque)))
         required = max(0.0, float(np.max(preload - force)))
     return Dynamics(theta, force, torque, static, jump, jump_at, required, preload, min_force,
-                    min_at, max_force, max_torque)
+                    min_at, max_force, max_torque, needed, needed_at)
 
 
 def jump_finding(design: Design, dyn: Dynamics) -> Finding:

@@ -24,6 +24,10 @@ _CAM = {
     "disc": ("type", "rotation", "speed_rpm", "base_radius", "thickness", "bore", "keyway"),
     "cylindrical": ("type", "rotation", "speed_rpm", "radius", "length", "groove_depth",
                     "groove_start", "bore"),
+    "circular-arc": ("type", "rotation", "speed_rpm", "base_radius", "lift", "lift_angle",
+                     "nose_radius", "flank_angle", "top_dwell", "thickness", "bore", "keyway"),
+    "tangent": ("type", "rotation", "speed_rpm", "base_radius", "lift", "lift_angle",
+                "nose_radius", "top_dwell", "thickness", "bore", "keyway"),
 }
 _SECTIONS: dict[str, tuple[str, ...]] = {
     "spring": ("rate", "preload", "initial_compression", "gravity", "damping", "external_load"),

@@ -31,6 +31,7 @@ from camfab.design import units as U
 from camfab.errors import DesignError, did_you_mean
 
 if TYPE_CHECKING:
+    from camfab.geometry.shaped import ShapedCam
     from camfab.motion.program import MotionProgram
 
 CamType = Literal["disc", "cylindrical", "circular-arc", "tangent", "groove", "conjugate", "linear"]
@@ -84,6 +85,7 @@ Length = Annotated[float, _as(U.LENGTH)]
 PositiveLength = Annotated[float, _as(U.LENGTH), Field(gt=0)]
 NonNegativeLength = Annotated[float, _as(U.LENGTH), Field(ge=0)]
 PositiveAngle = Annotated[float, _as(U.ANGLE), Field(gt=0)]
+NonNegativeAngle = Annotated[float, _as(U.ANGLE), Field(ge=0)]
 Lift = Annotated[float, BeforeValidator(_lift), Field(gt=0)]
 
 
@@ -100,9 +102,16 @@ class Keyway(Frozen):
     depth: PositiveLength
 
 
+#: Cam types whose shape defines the motion (THEORY §D): they have no motion list.
+SHAPED_CAM_TYPES = ("circular-arc", "tangent")
+
+
 class Cam(Frozen):
     """The cam body. Disc: ``base_radius`` (+ ``thickness``, ``bore``, ``keyway``).
-    Cylindrical: ``radius`` (outer), ``length``, ``groove_depth``, ``groove_start``, ``bore``."""
+    Cylindrical: ``radius`` (outer), ``length``, ``groove_depth``, ``groove_start``, ``bore``.
+    Circular-arc and tangent: ``base_radius``, ``lift``, ``lift_angle`` (the angle of ascent),
+    ``nose_radius`` (or ``flank_angle`` for a circular-arc cam; a tangent cam takes either
+    ``lift_angle`` or ``nose_radius``), ``top_dwell``, and the plate's keys."""
 
     type: CamType
     rotation: Literal["ccw", "cw"] = "ccw"
@@ -115,6 +124,16 @@ class Cam(Frozen):
     length: PositiveLength | None = None
     groove_depth: PositiveLength | None = None
     groove_start: Length | None = None
+    lift: PositiveLength | None = None
+    lift_angle: PositiveAngle | None = None
+    nose_radius: PositiveLength | None = None
+    flank_angle: PositiveAngle | None = None
+    top_dwell: NonNegativeAngle = 0.0
+
+    @property
+    def shaped(self) -> bool:
+        """True for a cam whose shape defines the motion (circular-arc, tangent)."""
+        return self.type in SHAPED_CAM_TYPES
 
     @property
     def sigma(self) -> int:
@@ -276,7 +295,7 @@ class Design(Frozen):
     units: Literal["mm", "in"] = "mm"
     cam: Cam
     follower: Follower
-    motion: Annotated[tuple[Segment, ...], Field(min_length=1)]
+    motion: Annotated[tuple[Segment, ...], Field(min_length=1)] | None = None
     spring: Spring | None = None
     limits: Limits = Limits()
     manufacturing: Manufacturing = Manufacturing()
@@ -293,10 +312,33 @@ class Design(Frozen):
 
     @cached_property
     def program(self) -> MotionProgram:
-        """The motion program s(θ) of ``motion`` (built once; the rules build it to check it)."""
+        """The motion program s(θ): of ``motion``, or of the cam's shape for a circular-arc or
+        tangent cam (built once; the rules build it to check it)."""
+        if self.cam.shaped:
+            from camfab.geometry.contact import contact_program
+            from camfab.geometry.follower import FollowerGeometry
+
+            fol = FollowerGeometry.from_design(self)
+            return contact_program(self.shape.pieces(), fol.radius, fol.flat)
         from camfab.motion.program import build_program
 
+        assert self.motion is not None, "the design rules require a motion list"
         return build_program(self.motion)
+
+    @cached_property
+    def shape(self) -> ShapedCam:
+        """The dimensions and outline of a circular-arc or tangent cam (raises ShapeError for
+        dimensions no such cam has; the design rules have checked them)."""
+        from camfab.geometry.shaped import ShapedCam
+
+        cam = self.cam
+        assert cam.shaped and cam.base_radius is not None and cam.lift is not None
+        if cam.type == "circular-arc":
+            assert cam.lift_angle is not None
+            return ShapedCam.circular_arc(cam.base_radius, cam.lift, cam.lift_angle,
+                                          cam.nose_radius, cam.flank_angle, cam.top_dwell)
+        return ShapedCam.tangent(cam.base_radius, cam.lift, cam.lift_angle, cam.nose_radius,
+                                 cam.top_dwell)
 
     @property
     def pressure_angle_limit(self) -> float:

@@ -19,7 +19,7 @@ if TYPE_CHECKING:
     from camfab.motion.program import MotionProgram
 
 #: Cam types this version builds; the others are part of the design format but not built yet.
-SUPPORTED_CAM_TYPES = ("disc", "cylindrical")
+SUPPORTED_CAM_TYPES = ("disc", "cylindrical", "circular-arc", "tangent")
 
 #: Smallest wall of material camfab accepts between a groove or bore and the part's edge (mm):
 #: thinner walls do not survive printing or machining.
@@ -30,7 +30,14 @@ MIN_WALL_MM = 1.0
 MIN_SEGMENT_DEG = 1e-6
 
 #: Follower contact shapes per cam type.
-FOLLOWERS_FOR_CAM = {"disc": ("knife", "roller", "flat", "mushroom"), "cylindrical": ("roller",)}
+FOLLOWERS_FOR_CAM = {"disc": ("knife", "roller", "flat", "mushroom"), "cylindrical": ("roller",),
+                     "circular-arc": ("knife", "roller", "flat", "mushroom"),
+                     "tangent": ("knife", "roller", "flat", "mushroom")}
+
+#: Keys each cam type requires.
+REQUIRED_CAM_KEYS = {"disc": ("base_radius",), "cylindrical": ("radius", "length", "groove_depth"),
+                     "circular-arc": ("base_radius", "lift", "lift_angle"),
+                     "tangent": ("base_radius", "lift")}
 
 
 class RuleViolation(CamfabError):
@@ -71,11 +78,12 @@ def check_cam_type(cam_type: str) -> None:
 def _check_cam(design: Design) -> None:
     cam = design.cam
     check_cam_type(cam.type)
-    required = {"disc": ("base_radius",), "cylindrical": ("radius", "length", "groove_depth")}
-    for key in required[cam.type]:
+    for key in REQUIRED_CAM_KEYS[cam.type]:
         if getattr(cam, key) is None:
             fail(("cam", key), f"required for a {cam.type} cam", show_got=False)
-    if cam.type == "disc":
+    if cam.shaped:
+        _check_shape(design)
+    if cam.type != "cylindrical":
         rb = cam.base_radius or 0.0
         if cam.bore is not None and cam.bore / 2 > rb - MIN_WALL_MM:
             fail(("cam", "bore"),
@@ -87,10 +95,27 @@ def _check_cam(design: Design) -> None:
         assert cam.bore is not None
         if cam.keyway.width >= cam.bore:
             fail(("cam", "keyway", "width"), f"must be narrower than the bore ({_mm(cam.bore)})")
-        outer = cam.base_radius if cam.type == "disc" else cam.radius
+        outer = cam.radius if cam.type == "cylindrical" else cam.base_radius
         if outer is not None and cam.bore / 2 + cam.keyway.depth > outer - MIN_WALL_MM:
             fail(("cam", "keyway", "depth"),
                  f"cuts to within {MIN_WALL_MM:g} mm of the cam's edge")
+
+
+def _check_shape(design: Design) -> None:
+    """A circular-arc or tangent cam's dimensions must make one (and the nose, flanks and base
+    circle must all be there)."""
+    from camfab.geometry.shaped import ShapeError
+
+    cam = design.cam
+    if cam.type == "tangent" and cam.lift_angle is None and cam.nose_radius is None:
+        fail(("cam", "lift_angle"), "required for a tangent cam (or nose_radius)", show_got=False)
+    if cam.type == "circular-arc" and cam.nose_radius is None and cam.flank_angle is None:
+        fail(("cam", "nose_radius"), "required for a circular-arc cam (or flank_angle)",
+             show_got=False)
+    try:
+        design.shape  # noqa: B018 - building it checks it
+    except ShapeError as exc:
+        fail(("cam", exc.field), exc.problem)
 
 
 def _check_follower(design: Design) -> None:
@@ -99,9 +124,12 @@ def _check_follower(design: Design) -> None:
     if fol.type not in allowed:
         fail(("follower", "type"), f"a {cam.type} cam takes a {' or '.join(allowed)} follower",
              allowed=", ".join(allowed))
-    if cam.type == "cylindrical" and fol.oscillating:
-        fail(("follower", "motion"), "a cylindrical cam drives a translating follower",
+    if cam.type in ("cylindrical", "circular-arc", "tangent") and fol.oscillating:
+        fail(("follower", "motion"), f"a {cam.type} cam drives a translating follower",
              allowed="translating")
+    if cam.shaped and fol.offset != 0.0:
+        fail(("follower", "offset"), f"a {cam.type} cam's follower moves along a line through "
+             "the cam centre: the offset must be 0")
     if fol.type == "roller" and fol.roller_radius is None:
         fail(("follower", "roller_radius"), "required for a roller follower", show_got=False)
     if fol.type == "mushroom" and fol.face_radius is None:
@@ -120,6 +148,13 @@ def _check_follower(design: Design) -> None:
 def _check_motion(design: Design) -> MotionProgram:
     from camfab.motion.program import ProgramError
 
+    if design.cam.shaped:
+        if design.motion is not None:
+            fail(("motion",), f"a {design.cam.type} cam's shape defines the motion: remove the "
+                 "motion list", show_got=False)
+        return design.program
+    if design.motion is None:
+        fail(("motion",), "required (a list of rise, dwell and return segments)", show_got=False)
     for i, seg in enumerate(design.motion):
         if math.degrees(seg.angle) < MIN_SEGMENT_DEG:
             fail(("motion", i, "angle"), f"must be at least {MIN_SEGMENT_DEG:g}°")

@@ -165,7 +165,7 @@ def _add_marks(msp: Any, analysis: Analysis, scale: float, plate: Plate) -> None
         lines.append(f"TOOLPATH: centre of a cutter of radius {cutter * scale:.4g} {unit}")
     height = max(rb * scale * 0.06, 1e-3)
     # below everything drawn: the profile, the pitch curve and the toolpath around them
-    drawn = np.vstack((geom.profile.vertices, geom.pitch.xy))
+    drawn = np.vstack((geom.outline_points(), geom.pitch.xy))
     margin = max(cutter, plate.kerf)
     left = (float(np.min(drawn[:, 0])) - margin) * scale
     low = (float(np.min(drawn[:, 1])) - margin) * scale - 1.5 * height

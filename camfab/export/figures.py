@@ -88,7 +88,7 @@ def diagrams(analysis: Analysis) -> str:
     radian of cam angle without a speed), the pressure angle against its limit, the radii of
     curvature against the follower's, and with dynamics the contact force and camshaft torque.
     (One figure, not three: each costs matplotlib a fixed share of the report's time.)"""
-    rows = 8 if _has_dynamics(analysis) else 6
+    rows = 8 if has_dynamics(analysis) else 6
     fig = _figure(9.0, 1.45 * rows + 0.6, left=0.11, top=1 - 0.3 / (1.45 * rows + 0.6),
                   bottom=0.45 / (1.45 * rows + 0.6))
     axes = list(fig.subplots(rows, 1, sharex=True))
@@ -103,7 +103,7 @@ def diagrams(analysis: Analysis) -> str:
     return _svg(fig)
 
 
-def _has_dynamics(analysis: Analysis) -> bool:
+def has_dynamics(analysis: Analysis) -> bool:
     dyn = analysis.dynamics
     return dyn is not None and dyn.force_N is not None and dyn.torque_N_m is not None
 
@@ -204,7 +204,8 @@ def _disc_drawing(analysis: Analysis) -> str:
     fig = _figure(6.4, 6.4, left=0.12, bottom=0.08)
     ax = fig.subplots()
     ax.set_aspect("equal")
-    ring = np.vstack((geom.profile.vertices, geom.profile.vertices[:1]))
+    outline = geom.outline_points()
+    ring = np.vstack((outline, outline[:1]))
     ax.fill(ring[:, 0], ring[:, 1], color="#f4d6d2", zorder=0)
     ax.plot(ring[:, 0], ring[:, 1], color=CUT, linewidth=1.2, label="cam profile")
     pitch = np.vstack((geom.pitch.xy, geom.pitch.xy[:1]))

@@ -60,6 +60,17 @@ def _segments(report: dict[str, Any]) -> tuple[list[str], list[list[str]]]:
     return [k.replace("_", " ") for k in keys], rows
 
 
+def _key_points(report: dict[str, Any]) -> tuple[list[str], list[list[str]]]:
+    """A shaped cam's key points of the rise (none for other cams)."""
+    points = report["motion"].get("key_points") or []
+    if not points:
+        return [], []
+    keys = list(points[0])
+    rows = [[_num(p[k]) if isinstance(p[k], float) else str(p[k]) for k in keys]
+            for p in points]
+    return [k.replace("_", " ") for k in keys], rows
+
+
 def _verification(report: dict[str, Any]) -> list[tuple[str, str]]:
     rows = []
     for key, value in report["verification"].items():
@@ -85,6 +96,7 @@ def render_report_html(analysis: Analysis) -> bytes:
     errors, warnings = count(analysis.findings, "error"), count(analysis.findings, "warning")
     design = analysis.design
     head, rows = _segments(report)
+    key_head, key_rows = _key_points(report)
     follower = f"{design.follower.motion} {design.follower.type} follower"
     kind = "drum cam" if design.cam.type == "cylindrical" else f"{design.cam.type} cam"
     page = env.get_template("report.html.j2").render(
@@ -99,7 +111,8 @@ def render_report_html(analysis: Analysis) -> bytes:
         drawing_title=("The groove developed" if design.cam.type == "cylindrical"
                        else "The cam at θ = 0"),
         numbers=_numbers(report), segment_head=head, segment_rows=rows,
+        key_head=key_head, key_rows=key_rows,
         diagrams=figures.diagrams(analysis),
-        dynamics=analysis.dynamics is not None,
+        dynamics=figures.has_dynamics(analysis),
         verification=_verification(report))
     return page.encode("utf-8")

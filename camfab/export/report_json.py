@@ -40,6 +40,7 @@ def report_dict(analysis: Analysis) -> dict[str, Any]:
         "motion": {
             units.lift_key.replace("lift", "max_lift"): units.lift_value(analysis.program.max_lift),
             "segment_count": len(analysis.program.segments),
+            **_key_points(analysis),
         },
         "segments": [_segment(s, analysis) for s in analysis.segments],
         "checks": [f.to_json() for f in analysis.findings],
@@ -87,14 +88,45 @@ def _geometry(analysis: Analysis) -> dict[str, Any]:
     }
     if fol.oscillating:
         out["rest_arm_angle_deg"] = math.degrees(geom.cam.rest)
+    shape = analysis.shape
+    if shape is not None:
+        out.update({
+            "flank_radius_mm": shape.flank_radius,
+            "flank_centre_distance_mm": shape.flank_centre_distance,
+            "nose_radius_mm": shape.nose_radius,
+            "nose_centre_distance_mm": shape.nose_centre_distance,
+            "lift_angle_deg": math.degrees(shape.lift_angle),
+            "top_dwell_deg": math.degrees(shape.top_dwell),
+            "flank_end_angle_deg": math.degrees(shape.flank_end_angle),
+        })
     return out
+
+
+def _key_points(analysis: Analysis) -> dict[str, Any]:
+    """A shaped cam's follower motion at the start of lift, the end of the flank, the start of
+    the nose and the apex: per radian, and in SI at the design speed."""
+    if analysis.shape is None:
+        return {}
+    units, omega = analysis.units, analysis.design.cam.omega
+    rows = []
+    for point in analysis.shape.points:
+        row: dict[str, Any] = {"point": point.name, "cam_angle_deg": math.degrees(point.angle),
+                               units.displacement_column: units.lift_value(point.motion[0])}
+        for order in (1, 2):
+            key = units.per_rad_key(order).removeprefix("max_")
+            row[key] = float(point.motion[order])
+            if omega is not None:
+                row[units.key(order)] = units.to_si(order, float(point.motion[order]), omega)
+        rows.append(row)
+    return {"key_points": rows}
 
 
 def _dynamics(analysis: Analysis) -> dict[str, Any]:
     dyn = analysis.dynamics
     if dyn is None:
         return {"jump_speed_rpm": None, "min_contact_force_N": None, "required_preload_N": None,
-                "note": "no spring and follower mass in the design"}
+                "required_spring_force_N": None,
+                "note": "no follower mass (or neither spring nor speed) in the design"}
     return {
         "jump_speed_rpm": dyn.jump_speed_rpm,
         "jump_speed_rad_s": dyn.jump_speed_rad_s,
@@ -105,6 +137,8 @@ def _dynamics(analysis: Analysis) -> dict[str, Any]:
         "required_preload_N": dyn.required_preload_N,
         "preload_N": dyn.preload_N,
         "max_camshaft_torque_N_m": dyn.max_torque_N_m,
+        "required_spring_force_N": dyn.required_spring_force_N,
+        "required_spring_force_at_deg": dyn.required_spring_force_at_deg,
     }
 
 

@@ -97,7 +97,7 @@ def render_stl(analysis: Analysis, plate: Plate) -> bytes | None:
     assert geom is not None
     if cam.thickness is None:
         return None
-    contours = [geom.profile.ccw().vertices, *hole_points(plate.holes, geom.tolerance)]
+    contours = [geom.outline_points(), *hole_points(plate.holes, geom.tolerance)]
     section = manifold3d.CrossSection(contours, manifold3d.FillRule.EvenOdd)
     return _binary_stl(manifold3d.Manifold.extrude(section, cam.thickness))
 
@@ -138,7 +138,7 @@ def expected_volume(analysis: Analysis, plate: Plate) -> tuple[float, float]:
     assert geom is not None and cam.thickness is not None
     area = geom.profile.area - sum(p.area for p in plate.holes.profiles)
     area -= sum(math.pi * r * r for r in plate.holes.circles)
-    chains = [geom.profile.vertices, *hole_points(plate.holes, geom.tolerance)]
+    chains = [geom.outline_points(), *hole_points(plate.holes, geom.tolerance)]
     length = sum(float(np.hypot(*(np.roll(c, -1, axis=0) - c).T).sum()) for c in chains)
     tolerance = analysis.design.manufacturing.tolerance
     return area * cam.thickness, tolerance * length * cam.thickness

@@ -109,6 +109,9 @@ class DiscGeometry:
         The raw working-curve points the trimmed profile has lost (mask over ``working``).
     lift
         The follower run over ``profile``.
+    exact
+        True when ``profile`` is the cam's exact outline of lines and arcs (a cam drawn from
+        its shape), not the working curve sampled within the tolerance.
     """
 
     cam: DiscCam
@@ -121,6 +124,12 @@ class DiscGeometry:
     self_intersecting: bool
     cut: Mask
     lift: LiftCheck
+    exact: bool = False
+
+    def outline_points(self) -> Array:
+        """The cut profile as a closed chain of points (mm) within the sampling tolerance: the
+        profile's own points, or its arcs cut into chords when it is exact."""
+        return self.profile.points(self.tolerance) if self.exact else self.profile.vertices
 
     @property
     def undercut(self) -> bool:
@@ -255,5 +264,8 @@ def disc_geometry(design: Design) -> DiscGeometry:
         xy = trim_loops(working.xy, _keep_test(cam, pitch, dense, tolerance))
         cut = cut_away(working.xy, xy, 2 * tolerance)
     profile = Profile.from_points(xy).ccw()
+    exact = design.cam.shaped
+    if exact:  # the outline it is drawn from; the follower run over it checks the motion
+        profile = design.shape.profile(cam.sigma)
     return DiscGeometry(cam, tolerance, dense, pitch, working, profile, folded, crossing,
-                        cut, lift_check(cam, program, profile))
+                        cut, lift_check(cam, program, profile), exact)

@@ -114,20 +114,26 @@ def offset_holes(part: Contours, distance: float, tolerance: float) -> Contours:
 def plate(design: Design, geom: DiscGeometry) -> Plate:
     """The plate's contours: the part, the kerf-compensated CUT contours and the toolpath."""
     tolerance = geom.tolerance
-    outline = fit_arcs(geom.profile.vertices, tolerance)
+    outline = geom.profile if geom.exact else fit_arcs(geom.profile.vertices, tolerance)
+
+    def around(distance: float) -> Profile:
+        """The outline grown by *distance*: exactly for an exact outline of lines and arcs
+        meeting tangentially, through shapely and an arc fit otherwise."""
+        if geom.exact:
+            return outline.offset(distance)
+        return offset_outline(geom.profile.vertices, distance, tolerance)
+
     part_holes = holes(design)
     kerf = design.manufacturing.kerf
     cut = Contours((outline, *part_holes.profiles), part_holes.circles)
     if kerf > 0.0:
         beam = offset_holes(part_holes, kerf / 2.0, tolerance)
-        cut = Contours((offset_outline(geom.profile.vertices, kerf / 2.0, tolerance),
-                        *beam.profiles), beam.circles)
+        cut = Contours((around(kerf / 2.0), *beam.profiles), beam.circles)
     toolpath = None
     cutter = design.manufacturing.cutter_radius
     if cutter > 0.0:
         inside = offset_holes(part_holes, cutter, tolerance)
-        toolpath = Contours((offset_outline(geom.profile.vertices, cutter, tolerance),
-                             *inside.profiles), inside.circles)
+        toolpath = Contours((around(cutter), *inside.profiles), inside.circles)
     return Plate(outline, part_holes, cut, toolpath, kerf)
 
 
