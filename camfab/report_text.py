@@ -9,6 +9,7 @@ from rich.console import Console
 from rich.table import Table
 
 if TYPE_CHECKING:
+    from camfab.geometry.disc_geometry import DiscGeometry
     from camfab.pipeline import Analysis
 
 
@@ -66,9 +67,16 @@ def print_summary(analysis: Analysis) -> None:
         console.print(
             f"cam: base radius {_num(design.cam.base_radius)} mm, prime radius "
             f"{_num(geom.cam.prime_radius)} mm, largest radius {_num(numbers.max_radius_mm)} mm; "
-            f"pitch curve's smallest convex radius {_num(convex)} mm; profile of "
-            f"{len(geom.profile.vertices)} points within {geom.tolerance:.2g} mm; the follower "
-            f"run over it strays {geom.lift.max_mm:.2g} mm from the design")
+            f"pitch curve's smallest convex radius {_num(convex)} mm; {_profile_words(geom)}; "
+            f"the follower run over it strays {geom.lift.max_mm:.2g} mm from the design")
+    shape = analysis.shape
+    if shape is not None:
+        flank = ("straight flanks" if shape.flank_radius is None else
+                 f"flank radius {_num(shape.flank_radius)} mm")
+        console.print(
+            f"shape: {flank}, nose radius {_num(shape.nose_radius)} mm, nose centre "
+            f"{_num(shape.nose_centre_distance)} mm from the cam centre; contact passes from "
+            f"flank to nose at {_num(math.degrees(shape.flank_end_angle))}°")
     for finding in analysis.findings:
         mark = "[green]✔[/green]" if finding.ok else (
             "[red]✖[/red]" if finding.severity == "error" else "[yellow]![/yellow]")
@@ -76,6 +84,13 @@ def print_summary(analysis: Analysis) -> None:
     errors, warnings = count(analysis.findings, "error"), count(analysis.findings, "warning")
     verdict = "[red]FAIL[/red]" if analysis.exit_code else "[green]OK[/green]"
     console.print(f"{verdict}: {errors} error(s), {warnings} warning(s)")
+
+
+def _profile_words(geom: DiscGeometry) -> str:
+    count = len(geom.profile.vertices)
+    if geom.exact:
+        return f"exact profile of {count} arcs and lines"
+    return f"profile of {count} points within {geom.tolerance:.2g} mm"
 
 
 def laws_table() -> None:

@@ -46,6 +46,16 @@ class ShapeNumbers:
     points: tuple[KeyPoint, ...]
 
 
+#: Motion values smaller than this (mm per radianⁿ) are rounding at a point where the value is 0
+#: in theory (the velocity at the start of lift and at the apex).
+ZERO = 1e-9
+
+
+def _cleaned(motion: Array) -> Array:
+    values = np.asarray(motion, dtype=np.float64)
+    return np.where(np.abs(values) < ZERO, 0.0, values)
+
+
 def shape_numbers(design: Design, program: MotionProgram) -> ShapeNumbers:
     """The dimensions of *design*'s shape and its follower's motion at the key points."""
     shape = design.shape
@@ -65,5 +75,5 @@ def shape_numbers(design: Design, program: MotionProgram) -> ShapeNumbers:
         lift_angle=shape.lift_angle,
         top_dwell=shape.top_dwell,
         flank_end_angle=0.0 if flank is None else flank.end,
-        points=tuple(KeyPoint(p.name, p.angle, np.asarray(p.motion)) for p in points),
+        points=tuple(KeyPoint(p.name, p.angle, _cleaned(p.motion)) for p in points),
     )

@@ -154,10 +154,17 @@ def _add_marks(msp: Any, analysis: Analysis, scale: float, plate: Plate) -> None
     msp.add_line((0.0, 0.6 * rb * scale), (0.0, 0.9 * rb * scale), dxfattribs={"layer": "MARK"})
     design = analysis.design
     unit = design.units
-    lines = [f"{design.name}: disc cam, {design.cam.rotation}, base radius {rb * scale:.6g} "
+    kind = design.cam.type if design.cam.shaped else "disc"
+    lines = [f"{design.name}: {kind} cam, {design.cam.rotation}, base radius {rb * scale:.6g} "
              f"{unit}",
              f"outline of {len(plate.cut.profiles[0].vertices)} lines and arcs within "
              f"{design.manufacturing.tolerance * scale:.3g} {unit}"]
+    if design.cam.shaped:
+        shape = design.shape
+        flank = ("straight flanks" if shape.flank_radius is None else
+                 f"flank radius {shape.flank_radius * scale:.6g} {unit}")
+        lines[1] = (f"exact outline of {len(plate.outline.vertices)} lines and arcs: {flank}, "
+                    f"nose radius {shape.nose_radius * scale:.6g} {unit}")
     if plate.kerf > 0.0:
         lines.append(f"CUT offset for a kerf of {plate.kerf * scale:.4g} {unit}")
     cutter = design.manufacturing.cutter_radius
