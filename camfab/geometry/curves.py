@@ -71,6 +71,12 @@ class CurvePoints:
     radius: Array
 
 
+#: A curve is straight where C′ and C″ are parallel to within this sine of the angle between
+#: them: the rounding of a straight piece's cross product (a tangent cam's flank) is ~1e-16,
+#: while a bend of any radius a cam has turns them far more.
+STRAIGHT_SINE = 1e-10
+
+
 def curve_from_frame(theta: Array, sigma: int, f: Array, df: Array, ddf: Array) -> CurvePoints:
     """The cam-frame curve ``C = Rot(−σθ)·F`` of a frame point F(θ) with derivatives F′, F″.
 
@@ -81,8 +87,10 @@ def curve_from_frame(theta: Array, sigma: int, f: Array, df: Array, ddf: Array) 
     d1 = df - sigma * perp(f)
     d2 = ddf - 2 * sigma * perp(df) - f
     speed = np.hypot(d1[:, 0], d1[:, 1])
+    bend = cross(d1, d2)
+    straight = np.abs(bend) <= STRAIGHT_SINE * speed * np.hypot(d2[:, 0], d2[:, 1])
     with np.errstate(divide="ignore", invalid="ignore"):
-        radius = -sigma * speed**3 / cross(d1, d2)
+        radius = np.where(straight, np.inf, -sigma * speed**3 / bend)
     xy = rotate(f, -sigma * theta)
     tangent = rotate(unit(d1), -sigma * theta)
     return CurvePoints(xy, tangent, speed, radius)
