@@ -7,6 +7,7 @@ Heavy libraries are imported inside the commands so ``camfab --version`` stays i
 
 from __future__ import annotations
 
+import math
 import os
 import sys
 from dataclasses import dataclass, field
@@ -18,10 +19,12 @@ import click
 from camfab import __version__
 
 if TYPE_CHECKING:
+    from camfab.analysis.inspection import Inspection
+    from camfab.inspection import InspectOptions
     from camfab.pipeline import Analysis
 
 STARTER_KINDS = ("disc-roller", "disc-knife", "disc-flat", "disc-mushroom", "oscillating",
-                 "oscillating-flat", "cylindrical")
+                 "oscillating-flat", "cylindrical", "circular-arc", "tangent")
 
 
 @dataclass
@@ -87,6 +90,93 @@ def new(kind: str | None) -> None:
         sys.exit(2)
     text = (resources.files("camfab") / "starters" / f"{kind}.yaml").read_text(encoding="utf-8")
     click.echo(text, nl=False)
+
+
+@main.command()
+@click.argument("profile", type=click.Path(path_type=Path))
+@click.option("--design", type=click.Path(path_type=Path), metavar="DESIGN.yaml",
+              help="Compare with this design's motion (follower, rotation, speed and tolerance "
+                   "default to the design's).")
+@click.option("--follower", "follower_file", type=click.Path(path_type=Path), metavar="F.yaml",
+              help="The follower (and rotation, speed_rpm, units, tolerance) from a small YAML.")
+@click.option("--type", "kind", type=click.Choice(["knife", "roller", "flat", "mushroom"]),
+              help="Follower type.")
+@click.option("--roller-radius", metavar="R", help="Roller radius (e.g. of a dial indicator).")
+@click.option("--face-radius", metavar="R", help="Mushroom follower's face radius.")
+@click.option("--offset", metavar="E", help="Translating follower's offset (signed, +X).")
+@click.option("--pivot-distance", metavar="A", help="Oscillating: cam centre to pivot.")
+@click.option("--arm-length", metavar="L", help="Oscillating: pivot to trace point.")
+@click.option("--pivot-side", type=click.Choice(["right", "left"]), help="Oscillating: pivot side.")
+@click.option("--face-offset", metavar="F", help="Oscillating flat face: distance from the pivot.")
+@click.option("--rotation", type=click.Choice(["ccw", "cw"]), help="Cam rotation (default ccw).")
+@click.option("--speed", metavar="RPM", help="Cam speed for velocities and accelerations.")
+@click.option("--units", type=click.Choice(["mm", "in"]),
+              help="Unit of the file's coordinates and of bare lengths on the command line.")
+@click.option("--layer", metavar="NAME", help="DXF layer of the outline (default CUT if present, "
+                                              "else all).")
+@click.option("--centre", metavar="X,Y", help="Cam centre in the file's coordinates (default 0,0).")
+@click.option("--step", metavar="DEG", help="Row step of the lift table (default 1°).")
+@click.option("--smooth", metavar="DEG", help="Half-width of the window the derivatives are "
+                                              "fitted over (default 1° drawings, 3° points).")
+@click.option("--tolerance", metavar="T", help="Largest deviation accepted, a length (default the "
+                                                "design's tolerance).")
+@click.option("--kerf", metavar="K", help="The outline is a laser's path: take kerf/2 off "
+                                           "(default: what a camfab DXF's note says, else 0).")
+@click.option("--align", is_flag=True, help="Turn the outline into phase with the design first.")
+@click.option("-o", "--output", "out_dir", type=click.Path(file_okay=False, path_type=Path),
+              help="Write the files into DIR instead of exports/<stem>-inspection/.",
+              metavar="DIR")
+def inspect(profile: Path, design: Path | None, follower_file: Path | None, kind: str | None,
+            roller_radius: str | None, face_radius: str | None, offset: str | None,
+            pivot_distance: str | None, arm_length: str | None, pivot_side: str | None,
+            face_offset: str | None, rotation: str | None, speed: str | None, units: str | None,
+            layer: str | None, centre: str | None, step: str | None, smooth: str | None,
+            tolerance: str | None, kerf: str | None, align: bool, out_dir: Path | None) -> None:
+    """Inspect a made or scanned cam: PROFILE is its outline (DXF, or CSV of x, y points).
+
+    Runs the follower over the outline and writes the lift table, the JSON and HTML reports;
+    with --design, the deviation from the design's motion (exit 1 when over the tolerance).
+    """
+    given = {"type": kind, "roller_radius": roller_radius, "face_radius": face_radius,
+             "offset": offset, "pivot_distance": pivot_distance, "arm_length": arm_length,
+             "pivot_side": pivot_side, "face_offset": face_offset}
+    from camfab.inspection import InspectOptions
+
+    options = InspectOptions(
+        profile, design, follower_file, {k: v for k, v in given.items() if v is not None},
+        rotation, speed, units, layer, centre, step, smooth, tolerance, kerf, align, out_dir)
+    sys.exit(_finish([_guarded(str(profile), lambda: _inspect_one(options))]))
+
+
+def _inspect_one(options: InspectOptions) -> Outcome:
+    from camfab.inspection import inspect as run_inspection
+
+    result = run_inspection(options)
+    ins = result.inspection
+    stem = options.profile.stem
+    worst = ins.max_deviation()
+    if worst is None or ins.reference is None:
+        steepest = next(f.value for f in ins.findings if f.id == "pressure_angle")
+        head = f"{stem}: MEASURED — lift {_lift_text(ins)}, pressure angle up to {steepest:.3g}°"
+    else:
+        state = "FAIL" if result.exit_code else "PASS"
+        head = (f"{stem}: {state} — deviation from {ins.reference.name} {worst[0]:.3g} mm at "
+                f"most (at {worst[1]:.4g}°), RMS {ins.rms_deviation():.3g} mm, tolerance "
+                f"{ins.setup.tolerance:.3g} mm")
+        if ins.align is not None:
+            head += f"; turned {math.degrees(ins.align):.4g}° into phase"
+    lines = [f"{head} — wrote {len(result.written)} file(s) to {result.folder}/"]
+    lines += [f"  {p.name}" for p in result.written]
+    lines += [f"  {_mark(f)} {f.id}: {f.message}" for f in ins.findings if not f.ok]
+    return Outcome(result.exit_code, out=lines)
+
+
+def _lift_text(ins: Inspection) -> str:
+    import numpy as np
+
+    if ins.oscillating:
+        return f"{math.degrees(float(np.max(ins.lift))):.4g}°"
+    return f"{float(np.max(ins.lift)):.4g} mm"
 
 
 def _run_all(designs: tuple[str, ...], out_dir: Path | None, jobs: int, task) -> list[Outcome]:

@@ -123,3 +123,23 @@ def _show(value: object) -> str:
     else:
         text = repr(value)
     return text if len(text) <= 60 else text[:57] + "..."
+
+
+class OutlineError(CamfabError, ValueError):
+    """An outline file that cannot be used: ``FILE[:LINE]: problem``."""
+
+    def __init__(self, file: str, problem: str, line: int | None = None) -> None:
+        self.file = file
+        self.problem = problem
+        self.line = line
+        where = file if line is None else f"{file}:{line}"
+        super().__init__(" ".join(f"{where}: {problem}".split()))
+
+
+class InspectionError(CamfabError, ValueError):
+    """An inspection that cannot be run: ``WHAT: problem`` (a file or an option)."""
+
+    def __init__(self, what: str, problem: str) -> None:
+        self.what = what
+        self.problem = problem
+        super().__init__(" ".join(f"{what}: {problem}".split()))

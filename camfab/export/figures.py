@@ -26,7 +26,7 @@ CUT, PITCH, REFERENCE, BAD, FOLLOWER, WARN = ("#c0392b", "#2c5aa0", "#999999", "
                                               "#2d7d46", "#d4ac0d")
 
 
-def _figure(width_in: float, height_in: float, **margins: float) -> Any:
+def new_figure(width_in: float, height_in: float, **margins: float) -> Any:
     """A figure with fixed margins (a layout engine would draw every figure twice)."""
     from matplotlib.figure import Figure
 
@@ -42,7 +42,7 @@ def _thin(*arrays: np.ndarray) -> list[np.ndarray]:
     return [a[..., ::10] for a in arrays]
 
 
-def _angle_axis(*axes: Any) -> None:
+def angle_axis(*axes: Any) -> None:
     """Cam angle from 0 to 360° with a tick every 60°, and few ticks on the values: every tick is
     a handful of artists, and ticks are most of the time matplotlib takes here."""
     from matplotlib.ticker import FixedLocator, MaxNLocator, NullLocator
@@ -55,7 +55,7 @@ def _angle_axis(*axes: Any) -> None:
         ax.yaxis.set_major_locator(MaxNLocator(nbins=4))
 
 
-def _svg(fig: Any) -> str:
+def svg_text(fig: Any) -> str:
     import matplotlib
     from matplotlib.backends.backend_svg import FigureCanvasSVG
 
@@ -89,7 +89,7 @@ def diagrams(analysis: Analysis) -> str:
     curvature against the follower's, and with dynamics the contact force and camshaft torque.
     (One figure, not three: each costs matplotlib a fixed share of the report's time.)"""
     rows = 8 if has_dynamics(analysis) else 6
-    fig = _figure(9.0, 1.45 * rows + 0.6, left=0.11, top=1 - 0.3 / (1.45 * rows + 0.6),
+    fig = new_figure(9.0, 1.45 * rows + 0.6, left=0.11, top=1 - 0.3 / (1.45 * rows + 0.6),
                   bottom=0.45 / (1.45 * rows + 0.6))
     axes = list(fig.subplots(rows, 1, sharex=True))
     _motion_panels(analysis, axes[:4])
@@ -99,8 +99,8 @@ def diagrams(analysis: Analysis) -> str:
     for ax in axes:
         _segment_marks(ax, analysis, labels=ax is axes[0])
     axes[-1].set_xlabel("cam angle θ (deg)")
-    _angle_axis(*axes)
-    return _svg(fig)
+    angle_axis(*axes)
+    return svg_text(fig)
 
 
 def has_dynamics(analysis: Analysis) -> bool:
@@ -138,8 +138,8 @@ def _pressure_panels(analysis: Analysis, top: Any, bottom: Any) -> None:
                                            np.degrees(geom.dense.pressure_angle),
                                            geom.dense.pitch.radius, geom.dense.working.radius)
         top.plot(theta, phi, color=PITCH, linewidth=1.0, label="pressure angle φ")
-        bottom.plot(theta, _clip(pitch), color=PITCH, linewidth=1.0, label="pitch curve ρ")
-        bottom.plot(theta, _clip(profile), color=CUT, linewidth=1.0, label="profile ρ")
+        bottom.plot(theta, clip_radii(pitch), color=PITCH, linewidth=1.0, label="pitch curve ρ")
+        bottom.plot(theta, clip_radii(profile), color=CUT, linewidth=1.0, label="profile ρ")
         radius = geom.cam.follower.radius
         if radius > 0:
             bottom.axhline(radius, color=BAD, linewidth=0.8, linestyle="--",
@@ -150,7 +150,7 @@ def _pressure_panels(analysis: Analysis, top: Any, bottom: Any) -> None:
         for row, name in ((0, "floor"), (-1, "surface")):
             top.plot(theta, phi[row], linewidth=1.0,
                      label=f"φ at the {name} (r = {dense.radii[row]:.4g} mm)")
-            bottom.plot(theta, _clip(rho[row]), linewidth=1.0,
+            bottom.plot(theta, clip_radii(rho[row]), linewidth=1.0,
                         label=f"developed ρ at the {name}")
         bottom.axhline(dense.drum.roller, color=BAD, linewidth=0.8, linestyle="--",
                        label=f"roller {dense.drum.roller:.4g} mm")
@@ -163,7 +163,7 @@ def _pressure_panels(analysis: Analysis, top: Any, bottom: Any) -> None:
         ax.legend(fontsize=7, loc="upper right")
 
 
-def _clip(radius: np.ndarray) -> np.ndarray:
+def clip_radii(radius: np.ndarray) -> np.ndarray:
     """Radii for plotting: straight stretches (±∞) and the huge values next to them hidden."""
     finite = np.abs(radius[np.isfinite(radius)])
     cap = 4.0 * float(np.median(finite)) if finite.size else 1.0
@@ -201,7 +201,7 @@ def _disc_drawing(analysis: Analysis) -> str:
     geom = analysis.geometry
     assert geom is not None
     fol = geom.cam.follower
-    fig = _figure(6.4, 6.4, left=0.12, bottom=0.08)
+    fig = new_figure(6.4, 6.4, left=0.12, bottom=0.08)
     ax = fig.subplots()
     ax.set_aspect("equal")
     outline = geom.outline_points()
@@ -235,7 +235,7 @@ def _disc_drawing(analysis: Analysis) -> str:
                  fontsize=9)
     ax.set_xlabel("x (mm)")
     ax.set_ylabel("y (mm)")
-    return _svg(fig)
+    return svg_text(fig)
 
 
 def _draw_follower(ax: Any, analysis: Analysis) -> None:
@@ -275,7 +275,7 @@ def _drum_drawing(analysis: Analysis) -> str:
     assert dense is not None
     d = dense.drum
     dev = development(d, analysis.program, 0.01)
-    fig = _figure(9.0, 3.6, bottom=0.14)
+    fig = new_figure(9.0, 3.6, bottom=0.14)
     ax = fig.subplots()
     ax.set_aspect("equal")
     ax.plot([0, dev.width, dev.width, 0, 0], [0, 0, dev.height, dev.height, 0],
@@ -289,4 +289,4 @@ def _drum_drawing(analysis: Analysis) -> str:
     ax.set_xlabel("around the drum (mm)")
     ax.set_ylabel("z (mm)")
     ax.legend(fontsize=7, loc="upper right")
-    return _svg(fig)
+    return svg_text(fig)

@@ -17,7 +17,7 @@ if TYPE_CHECKING:
     from camfab.pipeline import Analysis
 
 
-def _num(value: float | None, digits: int = 5) -> str:
+def num(value: float | None, digits: int = 5) -> str:
     if value is None:
         return "—"
     if 1e4 <= abs(value) < 1e9:  # large values in full, not as 4.9907e+05
@@ -25,7 +25,7 @@ def _num(value: float | None, digits: int = 5) -> str:
     return f"{value:.{digits}g}"
 
 
-def _where(ranges: tuple[tuple[float, float], ...]) -> str:
+def where(ranges: tuple[tuple[float, float], ...]) -> str:
     return ", ".join(f"{a:.4g}–{b:.4g}" for a, b in ranges)
 
 
@@ -35,9 +35,9 @@ def _findings(analysis: Analysis) -> list[dict[str, Any]]:
         row = "" if f.ok else ("fail" if f.severity == "error" else "warn")
         rows.append({"id": f.id, "severity": f.severity, "row": row,
                      "mark": "✔" if f.ok else ("✖" if f.severity == "error" else "!"),
-                     "value": "" if f.value is None else f"{_num(f.value)} {f.unit or ''}",
-                     "limit": "" if f.limit is None else f"{_num(f.limit)} {f.unit or ''}",
-                     "where": _where(f.ranges_deg), "message": f.message})
+                     "value": "" if f.value is None else f"{num(f.value)} {f.unit or ''}",
+                     "limit": "" if f.limit is None else f"{num(f.limit)} {f.unit or ''}",
+                     "where": where(f.ranges_deg), "message": f.message})
     return rows
 
 
@@ -49,13 +49,13 @@ def _numbers(report: dict[str, Any]) -> list[tuple[str, str]]:
             if value is None or isinstance(value, (list, dict)) or key == "note":
                 continue
             label = key.replace("_", " ")
-            rows.append((label, _num(value) if isinstance(value, float) else str(value)))
+            rows.append((label, num(value) if isinstance(value, float) else str(value)))
     return rows
 
 
 def _segments(report: dict[str, Any]) -> tuple[list[str], list[list[str]]]:
     keys = [k for k in report["segments"][0] if k not in ("law_coefficients",)]
-    rows = [[_num(seg[k]) if isinstance(seg[k], float) else str(seg[k]) for k in keys]
+    rows = [[num(seg[k]) if isinstance(seg[k], float) else str(seg[k]) for k in keys]
             for seg in report["segments"]]
     return [k.replace("_", " ") for k in keys], rows
 
@@ -66,7 +66,7 @@ def _key_points(report: dict[str, Any]) -> tuple[list[str], list[list[str]]]:
     if not points:
         return [], []
     keys = list(points[0])
-    rows = [[_num(p[k]) if isinstance(p[k], float) else str(p[k]) for k in keys]
+    rows = [[num(p[k]) if isinstance(p[k], float) else str(p[k]) for k in keys]
             for p in points]
     return [k.replace("_", " ") for k in keys], rows
 
@@ -75,10 +75,10 @@ def _verification(report: dict[str, Any]) -> list[tuple[str, str]]:
     rows = []
     for key, value in report["verification"].items():
         if isinstance(value, dict):
-            rows += [(f"STL {k.replace('_', ' ')}", _num(v) if isinstance(v, float) else str(v))
+            rows += [(f"STL {k.replace('_', ' ')}", num(v) if isinstance(v, float) else str(v))
                      for k, v in value.items()]
         elif value is not None:
-            rows.append((key.replace("_", " "), _num(value) if isinstance(value, float)
+            rows.append((key.replace("_", " "), num(value) if isinstance(value, float)
                          else str(value)))
     return rows
 

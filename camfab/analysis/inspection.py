@@ -1,0 +1,393 @@
+"""Inspection of a made or scanned cam: the follower run over its outline, the motion that gives,
+and its deviation from the design.
+
+The follower is pressed onto the outline at every step of a fine grid of cam angles
+(:func:`~camfab.geometry.simulate.simulate`, the same engine that verifies camfab's own files);
+its position there is the measured motion. Lift is measured from the follower's rest position
+on the base circle: the design's base circle when a design is given (so an undersized base circle
+shows as a lift error), else the outline's own smallest radius.
+
+Derivatives. A measured lift is known at points, not as a formula, so its derivatives per radian
+of cam angle are those of a least-squares cubic fitted over a window of ±``smooth`` about each
+angle (a Savitzky–Golay filter, wrapped around the turn). This is exact for a cubic, keeps smooth
+motion to within about s⁽⁵⁾·smooth⁴/100, and averages the lift's small ripple (the chords of a
+scan, the joints of a drawing's arcs, measuring noise of amplitude σ gives about σ/smooth² of
+noise on s″). Its limits: a step in acceleration (a uniform-acceleration or harmonic law meeting a
+dwell) is spread over the window, so s″ there ramps over ±smooth instead of jumping, and a peak of
+s″ narrower than the window is lowered. Velocity and acceleration at a speed ω are ω·s′ and
+ω²·s″; the pressure angle and the pitch curve's radius of curvature follow from s, s′ and s″ by
+the exact evaluators of :class:`~camfab.geometry.disc.DiscCam`.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field, replace
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from camfab.analysis.findings import Finding, exit_status
+from camfab.analysis.ranges import Range, ranges_deg
+from camfab.arrays import Array, Index, Mask
+from camfab.errors import InspectionError
+from camfab.geometry.disc import DiscCam
+from camfab.geometry.follower import FollowerGeometry
+from camfab.geometry.profile import Profile
+
+if TYPE_CHECKING:
+    from camfab.pipeline import Analysis
+
+#: Largest cam-angle step of the grid the follower is run on: 0.1°, like the verification of
+#: camfab's files; a bump of a few tenths of a millimetre along the outline still spans steps.
+INSPECT_STEP = math.radians(0.1)
+
+#: Default half-width of the window the derivatives are fitted over: 1° for an outline of lines
+#: and arcs (a drawing: its lift ripples by a fraction of its tolerance), 3° for an outline of
+#: points (a scan: micrometres of noise per point would swamp s″ over a narrower window).
+SMOOTH_DRAWING = math.radians(1.0)
+SMOOTH_POINTS = math.radians(3.0)
+
+#: The design's working curve is sampled this many times finer than its tolerance to be the
+#: reference a different follower is run over: chords of a convex curve lie inside it, and at
+#: the design's own sampling they would shift the reference by up to half the tolerance.
+REFERENCE_REFINEMENT = 64.0
+
+#: Peaks of |deviation| listed per excursion over the tolerance in the reports.
+MAX_EXCURSIONS = 50
+
+
+@dataclass(frozen=True)
+class InspectionSetup:
+    """How to inspect: the follower and the cam's turning, all lengths in mm, angles in rad.
+
+    Attributes
+    ----------
+    follower
+        The inspection follower (it may differ from the design's, e.g. a dial indicator's roller).
+    sigma
+        +1 for a counter-clockwise cam, −1 for clockwise.
+    omega
+        Speed (rad/s) for velocities and accelerations; None: per radian of cam angle only.
+    tolerance
+        Largest |deviation| (mm at the trace point) accepted; None without a design.
+    step
+        Cam-angle step of the lift table's rows.
+    smooth
+        Half-width of the window the derivatives are fitted over.
+    pressure_angle_limit
+        The limit the pressure angle is reported against.
+    """
+
+    follower: FollowerGeometry
+    sigma: int
+    omega: float | None
+    tolerance: float | None
+    step: float
+    smooth: float
+    pressure_angle_limit: float
+
+
+@dataclass(frozen=True)
+class Reference:
+    """The design's motion for the inspection follower.
+
+    ``position(theta)`` is the trace point's height (mm) or arm angle (rad) at cam angles θ;
+    ``base_radius`` the design's base circle (mm); ``source`` says how the position is found.
+    """
+
+    position: Callable[[Array], Array]
+    base_radius: float
+    source: str
+    name: str
+    profile: Profile
+
+
+@dataclass(frozen=True)
+class Excursion:
+    """A run of cam angles where |deviation| exceeds the tolerance, and its worst point."""
+
+    start_deg: float
+    end_deg: float
+    peak_mm: float
+    peak_at_deg: float
+
+
+@dataclass(frozen=True)
+class Inspection:
+    """The follower run over an outline, on a fine grid of cam angles ``theta`` (rad).
+
+    Motion arrays are in mm (translating) or rad of swing (oscillating), derivatives per radian
+    of cam angle: ``motion`` is (4, N) s, s′, s″ and zeros (s‴ is not estimated).
+    ``deviation`` is measured minus design (positive: the follower rides higher than the design
+    would lift it, material left on), ``deviation_mm`` the same at the trace point.
+    """
+
+    setup: InspectionSetup
+    profile: Profile
+    theta: Array
+    rows: Index
+    position: Array
+    rest: float
+    base_radius: float
+    measured_base_radius: float
+    motion: Array
+    pressure_angle: Array
+    pitch_radius: Array
+    contact: Array
+    reference: Reference | None = None
+    design_lift: Array | None = None
+    deviation: Array | None = None
+    deviation_mm: Array | None = None
+    align: float | None = None
+    findings: list[Finding] = field(default_factory=list)
+
+    @property
+    def oscillating(self) -> bool:
+        return self.setup.follower.oscillating
+
+    @property
+    def lift(self) -> Array:
+        return self.motion[0]
+
+    @property
+    def exit_code(self) -> int:
+        return exit_status(self.findings)
+
+    def max_deviation(self) -> tuple[float, float] | None:
+        """Largest |deviation| (mm at the trace point) and the cam angle (deg) where it is."""
+        if self.deviation_mm is None:
+            return None
+        k = int(np.argmax(np.abs(self.deviation_mm)))
+        return float(abs(self.deviation_mm[k])), float(np.degrees(self.theta[k]))
+
+    def rms_deviation(self) -> float | None:
+        """Root mean square of the deviation over the turn (mm at the trace point)."""
+        if self.deviation_mm is None:
+            return None
+        return float(np.sqrt(np.mean(self.deviation_mm**2)))
+
+    def on_outline(self, theta_deg: float) -> tuple[float, float]:
+        """Where the follower touches the cam at cam angle *theta_deg*: the contact point (mm) in
+        the outline's frame as read (centred, before any alignment turn) — where to look on the
+        part."""
+        k = int(np.argmin(np.abs(np.degrees(self.theta) - theta_deg)))
+        x, y = self.contact[k]
+        if self.align:
+            c, s = math.cos(self.setup.sigma * self.align), math.sin(self.setup.sigma * self.align)
+            x, y = c * x + s * y, -s * x + c * y
+        return float(x), float(y)
+
+    def excursions(self) -> list[Excursion]:
+        """Where |deviation| exceeds the tolerance, each run with its peak (largest first)."""
+        if self.deviation_mm is None or self.setup.tolerance is None:
+            return []
+        over = np.abs(self.deviation_mm) > self.setup.tolerance
+        out = []
+        for start, end in ranges_deg(self.theta, over):
+            inside = _in_range(np.degrees(self.theta), (start, end))
+            k = int(np.flatnonzero(inside)[np.argmax(np.abs(self.deviation_mm[inside]))])
+            out.append(Excursion(start, end, float(self.deviation_mm[k]),
+                                 float(np.degrees(self.theta[k]))))
+        return sorted(out, key=lambda e: -abs(e.peak_mm))[:MAX_EXCURSIONS]
+
+
+def _in_range(deg: Array, r: Range) -> Mask:
+    start, end = r
+    if start <= end:
+        return (deg >= start - 1e-9) & (deg <= end + 1e-9)
+    return (deg >= start - 1e-9) | (deg <= end + 1e-9)
+
+
+def grid(step: float) -> tuple[Array, Index]:
+    """The fine grid of cam angles (rad) the follower is run on, at most :data:`INSPECT_STEP`
+    apart, holding every row of a table at *step* (rad); and the rows' indices into it."""
+    count = max(1, round(2.0 * math.pi / step))
+    per_row = max(1, math.ceil((2.0 * math.pi / count) / INSPECT_STEP - 1e-9))
+    theta = (2.0 * math.pi / (count * per_row)) * np.arange(count * per_row, dtype=np.float64)
+    return theta, np.arange(count) * per_row
+
+
+def derivatives(values: Array, step: float, smooth: float) -> tuple[Array, Array]:
+    """s′ and s″ (per radian) of a periodic *values* sampled every *step* rad, from a cubic fitted
+    by least squares over ±*smooth* rad about each sample (see the module's notes)."""
+    from scipy.signal import savgol_filter
+
+    half = max(2, round(smooth / step))
+    window = min(2 * half + 1, values.size - (1 - values.size % 2))
+    first = savgol_filter(values, window, 3, deriv=1, delta=step, mode="wrap")
+    second = savgol_filter(values, window, 3, deriv=2, delta=step, mode="wrap")
+    return first, second
+
+
+def run_follower(profile: Profile, follower: FollowerGeometry, theta: Array,
+                 sigma: int) -> Array:
+    """The trace point's height (mm) or arm angle (rad) on *profile* at cam angles *theta*.
+
+    Raises
+    ------
+    InspectionError
+        The follower misses the outline at some angle (its line of motion or arm clears it).
+    """
+    from camfab.geometry.simulate import simulate
+
+    position = simulate(profile, follower, theta, sigma)
+    missing = ~np.isfinite(position)
+    if missing.any():
+        where = ", ".join(f"{a:.4g}–{b:.4g}°" for a, b in ranges_deg(theta, missing)[:3])
+        raise InspectionError("follower", f"does not touch the outline at cam angles {where} "
+                              "(check the offset, pivot and the outline's centre)")
+    return position
+
+
+def align_phase(profile: Profile, follower: FollowerGeometry, theta: Array, sigma: int,
+                position: Array, reference: Array) -> float:
+    """The angle α (rad) by which *profile* must be turned in the direction of rotation so the
+    follower's motion on it best matches *reference* (least squares over the turn).
+
+    Turning the cam by α in its direction of rotation advances its motion by α:
+    ``position'(θ) = position(θ + α)``. The best whole grid step comes from the circular
+    cross-correlation (FFT), refined by a parabola through the neighbouring steps and then by
+    running the follower over the outline turned by each trial angle.
+    """
+    from scipy.optimize import minimize_scalar
+
+    step = float(theta[1] - theta[0])
+    a, b = position - position.mean(), reference - reference.mean()
+    corr = np.fft.irfft(np.fft.rfft(a) * np.conj(np.fft.rfft(b)), n=a.size)
+    ssd = np.sum(a * a) + np.sum(b * b) - 2.0 * corr
+    k = int(np.argmin(ssd))
+    lo, mid, hi = ssd[k - 1], ssd[k], ssd[(k + 1) % ssd.size]
+    curve = lo - 2.0 * mid + hi
+    shift = k + (0.5 * (lo - hi) / curve if curve > 0 else 0.0)
+    guess = math.remainder(shift * step, 2.0 * math.pi)
+
+    def misfit(alpha: float) -> float:
+        turned = turn(profile, alpha, sigma)
+        return float(np.mean((run_follower(turned, follower, theta, sigma) - reference) ** 2))
+
+    found = minimize_scalar(misfit, bounds=(guess - step, guess + step), method="bounded",
+                            options={"xatol": 1e-6})
+    return float(found.x)
+
+
+def turn(profile: Profile, alpha: float, sigma: int) -> Profile:
+    """*profile* turned by *alpha* (rad) about the cam centre in the direction of rotation."""
+    c, s = math.cos(sigma * alpha), math.sin(sigma * alpha)
+    v = profile.vertices
+    return Profile(np.column_stack((c * v[:, 0] - s * v[:, 1], s * v[:, 0] + c * v[:, 1])),
+                   profile.bulges.copy())
+
+
+def inspect_profile(profile: Profile, setup: InspectionSetup, reference: Reference | None = None,
+                    align: bool = False) -> Inspection:
+    """Run the inspection follower over *profile* (mm, cam centre at the origin, drawn at θ = 0)
+    and derive its motion; with a *reference*, its deviation from the design (after turning the
+    outline into phase with the design when *align*)."""
+    fol, sigma = setup.follower, setup.sigma
+    theta, rows = grid(setup.step)
+    position = run_follower(profile, fol, theta, sigma)
+    design = None if reference is None else reference.position(theta)
+    alpha = None
+    if align and design is not None:
+        alpha = align_phase(profile, fol, theta, sigma, position, design)
+        profile = turn(profile, alpha, sigma)
+        position = run_follower(profile, fol, theta, sigma)
+    measured_base = float(profile.distance(np.zeros((1, 2)))[0])
+    base = measured_base if reference is None else reference.base_radius
+    cam = DiscCam(fol, base, sigma)
+    if not math.isfinite(cam.rest):
+        raise InspectionError("follower", "cannot rest on the base circle of radius "
+                              f"{base:.6g} mm (its offset or pivot puts it beyond the prime "
+                              "circle)")
+    lift = position - cam.rest
+    first, second = derivatives(lift, float(theta[1] - theta[0]), setup.smooth)
+    motion = np.vstack((lift, first, second, np.zeros_like(lift)))
+    contact = cam.working(theta, motion).xy
+    inspection = Inspection(setup, profile, theta, rows, position, cam.rest, base, measured_base,
+                            motion, cam.pressure_angle(theta, motion),
+                            cam.pitch(theta, motion).radius, contact, reference, align=alpha)
+    if design is not None:
+        deviation = position - design
+        scale = fol.arm_length if fol.oscillating else 1.0
+        inspection = replace(inspection, design_lift=design - cam.rest, deviation=deviation,
+                             deviation_mm=deviation * scale)
+    return replace(inspection, findings=inspection_findings(inspection))
+
+
+def inspection_findings(ins: Inspection) -> list[Finding]:
+    """The deviation against the tolerance (an error: it fails the inspection) and the pressure
+    angle against its limit (a warning: the part is as designed or not, whatever its φ)."""
+    from camfab.analysis.kinematics import degrees
+
+    findings = []
+    worst = ins.max_deviation()
+    tolerance = ins.setup.tolerance
+    if worst is not None and tolerance is not None:
+        value, at = worst
+        ranges = tuple((e.start_deg, e.end_deg) for e in sorted(ins.excursions(),
+                                                                key=lambda e: e.start_deg))
+        ok = value <= tolerance
+        rms = ins.rms_deviation()
+        text = (f"the follower deviates {value:.3g} mm at most from the design motion (at "
+                f"{at:.4g}°), RMS {rms:.3g} mm, tolerance {tolerance:.3g} mm")
+        if not ok:
+            text += f"; over the tolerance at {', '.join(_range_text(r) for r in ranges[:6])}°"
+            if len(ranges) > 6:
+                text += f" and {len(ranges) - 6} more range(s)"
+        findings.append(Finding("deviation", ok, "error", text, value, tolerance, "mm", ranges))
+    phi = np.abs(ins.pressure_angle)
+    limit = ins.setup.pressure_angle_limit
+    k = int(np.argmax(phi))
+    over = phi > limit
+    findings.append(Finding(
+        "pressure_angle", not bool(over.any()), "warning",
+        f"the pressure angle of the measured motion reaches {math.degrees(phi[k]):.3g}° at "
+        f"{degrees(float(ins.theta[k])):.4g}° (limit {math.degrees(limit):.3g}°)",
+        math.degrees(float(phi[k])), math.degrees(limit), "deg", ranges_deg(ins.theta, over)))
+    return findings
+
+
+def _range_text(r: Range) -> str:
+    return f"{r[0]:.4g}" if abs(r[1] - r[0]) < 1e-9 else f"{r[0]:.4g}–{r[1]:.4g}"
+
+
+def design_reference(analysis: Analysis, follower: FollowerGeometry) -> Reference:
+    """The design's motion for *follower*.
+
+    For the design's own follower on a cam that is not undercut this is the design motion itself
+    (rest position + s(θ), exact). For another follower (say an inspection roller of another
+    radius), or an undercut cam, it is that follower run over the design's cam: the exact working
+    curve sampled :data:`REFERENCE_REFINEMENT` times finer than the design's tolerance, or the
+    undercut cam's trimmed profile as built.
+    """
+    from camfab.geometry.disc_geometry import sample_closed
+
+    design, geom = analysis.design, analysis.geometry
+    if geom is None:
+        raise InspectionError(design.source or design.name,
+                              f"a {design.cam.type} cam has no disc outline to inspect")
+    program, cam = analysis.program, geom.cam
+    name = design.name
+    if follower == cam.follower and not geom.undercut:
+        rest = cam.rest
+
+        def exact(theta: Array) -> Array:
+            return rest + program.evaluate(theta)[0]
+
+        return Reference(exact, cam.base_radius, f"the design motion of {name}", name,
+                         geom.profile)
+    profile = geom.profile
+    source = f"the inspection follower run over {name}'s cam as cut (undercut trimmed)"
+    if design.cam.type == "disc" and not geom.undercut:
+        fine = sample_closed(cam, program, "working", geom.tolerance / REFERENCE_REFINEMENT)
+        profile = Profile.from_points(fine.xy).ccw()
+        source = (f"the inspection follower run over {name}'s exact profile (sampled within "
+                  f"{geom.tolerance / REFERENCE_REFINEMENT:.2g} mm)")
+    sigma = cam.sigma
+
+    def simulated(theta: Array) -> Array:
+        return run_follower(profile, follower, theta, sigma)
+
+    return Reference(simulated, cam.base_radius, source, name, profile)
