@@ -144,7 +144,8 @@ def contact_program(pieces: Sequence[Piece], radius: float, flat: bool) -> Motio
         ahead = (contact.joint_angle(contact.piece.start) - starts[-1] + _UNWRAP) % TWO_PI
         starts.append(min(starts[-1] + max(ahead - _UNWRAP, 0.0), TWO_PI))
     ends = [*starts[1:], TWO_PI]
-    rest = float(contacts[0].height(np.zeros(1))[0, 0])
+    # at rest on the base circle, the last piece before the rise (an arc about the centre)
+    rest = float(contacts[-1].height(np.zeros(1))[0, 0])
     segments: list[ProgramSegment] = []
     for contact, start, end in zip(contacts, starts, ends, strict=True):
         span = end - start
