@@ -273,3 +273,22 @@ def test_flat_face_on_a_tangent_cam_meets_the_nose_at_once() -> None:
     assert velocity and "velocity steps at 0°" in velocity[0].message
     assert analysis.shape is not None and analysis.shape.flank_end_angle == 0.0
     assert [p.name for p in analysis.shape.points] == ["start of lift", "start of nose", "apex"]
+
+
+def test_a_nose_almost_a_corner_keeps_the_velocity_continuous() -> None:
+    """A roller rounding a nose of 1 nm: the joint angles come from the flanks' normals, not from
+    the direction out of the tiny nose's centre, which rounding turns by 1e-7 rad."""
+    analysis = analyse(design_from_text(
+        "name: n\ncam:\n  type: circular-arc\n  base_radius: 30\n  lift: 20\n  lift_angle: 75\n"
+        "  nose_radius: 1e-6\nfollower: {type: roller, roller_radius: 5}\n"))
+    velocity = next(f for f in analysis.findings if f.id == "continuity"
+                    and f.quantity == "velocity")
+    assert velocity.ok, velocity.message
+
+
+def test_a_lift_of_nanometres_is_a_cam_that_barely_moves() -> None:
+    analysis = analyse(design_from_text(
+        "name: n\ncam:\n  type: circular-arc\n  base_radius: 30\n  lift: 1e-9\n"
+        "  lift_angle: 170\n  nose_radius: 29.99\nfollower: {type: roller, roller_radius: 5}\n"))
+    assert analysis.program.max_lift == pytest.approx(1e-9, rel=1e-5)
+    assert analysis.exit_code in (0, 1)

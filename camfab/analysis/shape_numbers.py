@@ -61,12 +61,13 @@ def shape_numbers(design: Design, program: MotionProgram) -> ShapeNumbers:
     shape = design.shape
     rise = [seg for seg in program.segments if seg.kind == "rise"]
     flank = next((seg for seg in rise if seg.law_name == "flank"), None)
-    nose = next(seg for seg in rise if seg.law_name == "nose")
-    points = [KeyPoint("start of lift", 0.0, rise[0].end_values()[0])]
+    nose = next((seg for seg in rise if seg.law_name == "nose"), None)
+    points = [] if not rise else [KeyPoint("start of lift", 0.0, rise[0].end_values()[0])]
     if flank is not None:
         points.append(KeyPoint("end of flank", flank.end, flank.end_values()[1]))
-    points += [KeyPoint("start of nose", nose.start, nose.end_values()[0]),
-               KeyPoint("apex", nose.end, nose.end_values()[1])]
+    if nose is not None:
+        points += [KeyPoint("start of nose", nose.start, nose.end_values()[0]),
+                   KeyPoint("apex", nose.end, nose.end_values()[1])]
     return ShapeNumbers(
         flank_radius=shape.flank_radius,
         flank_centre_distance=shape.flank_centre_distance,

@@ -72,13 +72,21 @@ class Contact:
              -4 * d * d * sin2)
         return out + _square_root(q)
 
-    def joint_angle(self, point: Array) -> float:
-        """The cam angle (rad, in [0, 2π)) at which the follower reaches *point* of the piece
-        (where this piece's contact ends or begins)."""
-        normal = self.piece.normal_at(point)
+    def joint_angle(self, point: Array, after: Piece) -> float:
+        """The cam angle (rad, in [0, 2π)) at which the follower passes *point*, the joint of
+        this piece with the piece *after* it. The outline's normal there is both pieces'; it is
+        taken from the flatter one (a line, or the larger arc), whose direction from its centre
+        rounding moves least."""
+        flatter = max((self.piece, after),
+                      key=lambda p: math.inf if p.centre is None else p.radius)
+        normal = flatter.normal_at(point)
         at = normal if self.flat else point + self.radius * normal
         return (math.pi / 2 - math.atan2(at[1], at[0])) % TWO_PI
 
+
+#: A piece over which the follower moves less than this fraction of its rest height is a dwell:
+#: its lift is rounding (an arc about the cam centre, or a cam with a lift of nanometres).
+FLAT_PIECE = 1e-12
 
 #: How far (rad) a joint's computed angle may fall before the previous joint's and still be
 #: taken as the same angle (both come from the same point of the outline).
@@ -139,9 +147,10 @@ def contact_program(pieces: Sequence[Piece], radius: float, flat: bool) -> Motio
     order = order[first:] + order[:first]
     contacts = [Contact(piece, radius, flat) for piece in order]
     starts = [0.0]
-    for contact in contacts[:-1]:
+    for contact, after in zip(contacts[:-1], order[1:], strict=True):
         # the next joint, at or after the last one (a joint a rounding error before it is at it)
-        ahead = (contact.joint_angle(contact.piece.start) - starts[-1] + _UNWRAP) % TWO_PI
+        joint = contact.joint_angle(contact.piece.start, after)
+        ahead = (joint - starts[-1] + _UNWRAP) % TWO_PI
         starts.append(min(starts[-1] + max(ahead - _UNWRAP, 0.0), TWO_PI))
     ends = [*starts[1:], TWO_PI]
     # at rest on the base circle, the last piece before the rise (an arc about the centre)
@@ -151,13 +160,14 @@ def contact_program(pieces: Sequence[Piece], radius: float, flat: bool) -> Motio
         span = end - start
         if span < MIN_SPAN:
             continue
-        law = ContactLaw(contact, start, span)
-        s0 = law.y0 - rest
+        ends_y = contact.height(np.array([start, end]))[0]
+        s0, delta = float(ends_y[0]) - rest, float(ends_y[1] - ends_y[0])
         centred = contact.piece.centre is not None and np.hypot(*contact.piece.centre) == 0.0
-        if centred:
+        if centred or abs(delta) <= FLAT_PIECE * rest:
             segments.append(ProgramSegment(len(segments), "dwell", "dwell", DWELL, start, span,
                                            s0, 0.0))
             continue
+        law = ContactLaw(contact, start, span)
         kind = "rise" if law.delta > 0.0 else "return"
         segments.append(ProgramSegment(len(segments), kind, contact.piece.label, law, start,
                                        span, s0, law.delta))
