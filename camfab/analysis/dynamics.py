@@ -83,11 +83,13 @@ def dynamics(design: Design, program: MotionProgram) -> Dynamics | None:
     del segment
     scale = _trace_scale(design)
     s, ds, dds = m[0] * scale, m[1] * scale, m[2] * scale  # m, m/rad, m/rad²
+    damping, load = (0.0, 0.0) if spring is None else (spring.damping, spring.external_load)
+    weight = mass * G if spring is not None and spring.gravity else 0.0
+    # what pulls the follower off the cam at the design speed: inertia, damping and loads
+    pull = None if omega is None else -(mass * omega**2 * dds + damping * omega * ds + load
+                                         + weight)
     needed = needed_at = None
-    if omega is not None:
-        damping, load = (0.0, 0.0) if spring is None else (spring.damping, spring.external_load)
-        weight = mass * G if spring is not None and spring.gravity else 0.0
-        pull = -(mass * omega**2 * dds + damping * omega * ds + load + weight)
+    if pull is not None:
         worst = int(np.argmax(pull))
         needed, needed_at = max(0.0, float(pull[worst])), math.degrees(float(theta[worst]))
     if spring is None:
@@ -96,8 +98,7 @@ def dynamics(design: Design, program: MotionProgram) -> Dynamics | None:
     k = spring.rate * 1000.0  # N/m
     preload = spring.preload if spring.preload is not None else k * (
         (spring.initial_compression or 0.0) / 1000.0)
-    weight = mass * G if spring.gravity else 0.0
-    static = preload + k * s + spring.external_load + weight
+    static = preload + k * s + load + weight
     # jump: the speed at which inertia first overcomes the holding force, where s″ < 0
     falling = dds < 0.0
     jump = jump_at = None
@@ -108,8 +109,8 @@ def dynamics(design: Design, program: MotionProgram) -> Dynamics | None:
         jump_at = math.degrees(float(theta[falling][index]))
     force = torque = None
     required = min_force = min_at = max_force = max_torque = None
-    if omega is not None:
-        force = mass * omega**2 * dds + spring.damping * omega * ds + static
+    if pull is not None:
+        force = preload + k * s - pull  # = m ω² s″ + c ω s′ + static
         torque = force * ds
         worst = int(np.argmin(force))
         min_force, min_at = float(force[worst]), math.degrees(float(theta[worst]))

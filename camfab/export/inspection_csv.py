@@ -12,13 +12,11 @@ Velocities and accelerations are the derivatives of the measured lift (see
 
 from __future__ import annotations
 
-import io
-import math
-
 import numpy as np
 
 from camfab.analysis.inspection import Inspection
 from camfab.analysis.kinematics import MotionUnits
+from camfab.export.motion_csv import csv_bytes
 
 
 def lift_table(ins: Inspection) -> tuple[list[str], np.ndarray]:
@@ -53,9 +51,4 @@ def lift_table(ins: Inspection) -> tuple[list[str], np.ndarray]:
 
 def render_lift_csv(ins: Inspection) -> bytes:
     """The lift table as CSV bytes (``\\n`` line ends, 10 significant digits)."""
-    columns, table = lift_table(ins)
-    out = io.StringIO()
-    out.write(",".join(columns) + "\n")
-    for row in table:
-        out.write(",".join("" if not math.isfinite(v) else f"{v + 0.0:.10g}" for v in row) + "\n")
-    return out.getvalue().encode("ascii")
+    return csv_bytes(*lift_table(ins))

@@ -52,7 +52,12 @@ def motion_table(analysis: Analysis) -> tuple[list[str], np.ndarray]:
 
 def render_motion_csv(analysis: Analysis) -> bytes:
     """The motion table as CSV bytes (``\\n`` line ends, 10 significant digits)."""
-    columns, table = motion_table(analysis)
+    return csv_bytes(*motion_table(analysis))
+
+
+def csv_bytes(columns: list[str], table: np.ndarray) -> bytes:
+    """A table as CSV bytes: a header row, ``\n`` line ends, 10 significant digits, empty cells
+    for values that are not finite."""
     out = io.StringIO()
     out.write(",".join(columns) + "\n")
     for row in table:

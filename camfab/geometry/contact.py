@@ -160,14 +160,13 @@ def contact_program(pieces: Sequence[Piece], radius: float, flat: bool) -> Motio
         span = end - start
         if span < MIN_SPAN:
             continue
-        ends_y = contact.height(np.array([start, end]))[0]
-        s0, delta = float(ends_y[0]) - rest, float(ends_y[1] - ends_y[0])
+        law = ContactLaw(contact, start, span)
+        s0 = law.y0 - rest
         centred = contact.piece.centre is not None and np.hypot(*contact.piece.centre) == 0.0
-        if centred or abs(delta) <= FLAT_PIECE * rest:
+        if centred or abs(law.delta) <= FLAT_PIECE * rest:
             segments.append(ProgramSegment(len(segments), "dwell", "dwell", DWELL, start, span,
                                            s0, 0.0))
             continue
-        law = ContactLaw(contact, start, span)
         kind = "rise" if law.delta > 0.0 else "return"
         segments.append(ProgramSegment(len(segments), kind, contact.piece.label, law, start,
                                        span, s0, law.delta))

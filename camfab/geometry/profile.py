@@ -154,6 +154,19 @@ class Profile:
             pieces.append(vertex + t * (following[i] - vertex))
         return np.concatenate(pieces)
 
+    def normal_angles(self) -> tuple[Array, Array]:
+        """Outward normal angles (rad) of each edge at its start and at its end, for a contour in
+        counter-clockwise order (a concave arc's outward normal points at its centre)."""
+        v = self.vertices
+        d = np.roll(v, -1, axis=0) - v
+        line_angle = np.arctan2(-d[:, 0], d[:, 1])
+        start, end = line_angle.copy(), line_angle.copy()
+        arcs = self.arcs()
+        outward = np.where(arcs.sweep > 0, 0.0, math.pi)
+        start[arcs.index] = arcs.start_angle + outward
+        end[arcs.index] = arcs.start_angle + arcs.sweep + outward
+        return start, end
+
     def offset(self, distance: float) -> Profile:
         """The contour moved *distance* (mm) along its outward normal (negative: inward), exactly:
         lines shift, arcs keep their centres and sweeps and change radius. For a contour whose
@@ -165,24 +178,15 @@ class Profile:
             The contour has a corner, or an arc would shrink through its centre.
         """
         prof = self.ccw()
-        v = prof.vertices
-        following = np.roll(v, -1, axis=0)
-        chord = following - v
-        # each edge's outward normal at its start and its end: a line's is its right normal,
-        # an arc's turns by its sweep (the chord's normal turned back by half the sweep)
-        sweep = 4.0 * np.arctan(prof.bulges)
-        chord_angle = np.arctan2(-chord[:, 0], chord[:, 1])
-        start = chord_angle - sweep / 2.0
-        end = chord_angle + sweep / 2.0
-        arriving = np.roll(end, 1)
-        turn = np.mod(start - arriving + math.pi, 2.0 * math.pi) - math.pi
+        start, end = prof.normal_angles()
+        turn = np.mod(start - np.roll(end, 1) + math.pi, 2.0 * math.pi) - math.pi
         if np.abs(turn).max() > 1e-7:
             raise ValueError("the contour has corners: offset it with round joins instead")
         arcs = prof.arcs()
         if np.any(arcs.radius + np.sign(arcs.sweep) * distance <= 0.0):
             raise ValueError(f"an arc of the contour is smaller than the offset {distance:g} mm")
         normal = np.stack((np.cos(start), np.sin(start)), axis=-1)
-        return Profile(v + distance * normal, prof.bulges.copy())
+        return Profile(prof.vertices + distance * normal, prof.bulges.copy())
 
     def radii(self) -> Array:
         """Distance of every vertex from the cam centre (mm)."""

@@ -22,6 +22,7 @@ from typing import Literal
 import numpy as np
 
 from camfab.arrays import Array
+from camfab.geometry.curves import rotate
 from camfab.geometry.profile import Profile
 
 ShapeKind = Literal["circular-arc", "tangent"]
@@ -250,8 +251,5 @@ def _split(piece: Piece) -> list[Piece]:
     """An arc longer than :data:`MAX_ARC_SWEEP` as two halves; other pieces as they are."""
     if piece.centre is None or piece.sweep <= MAX_ARC_SWEEP:
         return [piece]
-    rel = piece.start - piece.centre
-    half = piece.sweep / 2.0
-    c, s = math.cos(half), math.sin(half)
-    middle = piece.centre + np.array([c * rel[0] - s * rel[1], s * rel[0] + c * rel[1]])
+    middle = piece.centre + rotate(piece.start - piece.centre, piece.sweep / 2.0)
     return [replace(piece, end=middle), replace(piece, start=middle)]

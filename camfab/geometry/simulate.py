@@ -76,22 +76,9 @@ class _Circles:
             return np.mod(rel + _SLACK, TWO_PI) <= np.abs(sweep) + 2 * _SLACK
 
 
-def _normal_angles(profile: Profile) -> tuple[Array, Array]:
-    """Outward normal angles (rad) of each edge at its start and at its end (ccw profile)."""
-    v = profile.vertices
-    d = np.roll(v, -1, axis=0) - v
-    line_angle = np.arctan2(-d[:, 0], d[:, 1])
-    start, end = line_angle.copy(), line_angle.copy()
-    arcs = profile.arcs()
-    outward = np.where(arcs.sweep > 0, 0.0, math.pi)
-    start[arcs.index] = arcs.start_angle + outward
-    end[arcs.index] = arcs.start_angle + arcs.sweep + outward
-    return start, end
-
-
 def _corners(profile: Profile) -> tuple[Index, Array, Array]:
     """Convex corners: vertex index, the outward normal angle arriving, and the cone's angle."""
-    start, end = _normal_angles(profile)
+    start, end = profile.normal_angles()
     arriving = np.roll(end, 1)
     cone = np.mod(start - arriving + math.pi, TWO_PI) - math.pi
     convex = np.flatnonzero(cone > 0.0)
