@@ -24,7 +24,8 @@ if TYPE_CHECKING:
     from camfab.pipeline import Analysis
 
 STARTER_KINDS = ("disc-roller", "disc-knife", "disc-flat", "disc-mushroom", "oscillating",
-                 "oscillating-flat", "cylindrical", "circular-arc", "tangent")
+                 "oscillating-flat", "cylindrical", "circular-arc", "tangent", "groove",
+                 "conjugate", "constant-breadth", "linear")
 
 
 @dataclass

@@ -131,6 +131,9 @@ def prepare(options: InspectOptions) -> Prepared:
         if design.cam.type == "cylindrical":
             raise InspectionError(str(options.design), "is a drum (cylindrical) cam; inspection "
                                   "checks the outline of a disc cam")
+        if design.cam.type == "groove":
+            raise InspectionError(str(options.design), "is a groove cam; inspection checks the "
+                                  "outline of a disc cam, not a groove's two walls")
         analysis = analyse(design)
         if analysis.geometry is None:
             raise InspectionError(str(options.design), f"a {design.cam.type} cam has no disc "

@@ -24,9 +24,13 @@ if TYPE_CHECKING:
     from camfab.analysis.cam_checks import CamNumbers
     from camfab.analysis.drum_checks import DrumNumbers
     from camfab.analysis.dynamics import Dynamics
+    from camfab.analysis.linear_checks import LinearNumbers
     from camfab.analysis.shape_numbers import ShapeNumbers
+    from camfab.geometry.conjugate import Partner
     from camfab.geometry.disc_geometry import DiscGeometry
     from camfab.geometry.drum import DrumDense
+    from camfab.geometry.groove import GrooveWalls
+    from camfab.geometry.linear import LinearGeometry
     from camfab.verification import Verification
 
 #: Every output a design may ask for, in the order files are listed.
@@ -43,11 +47,14 @@ class Analysis:
     segments: list[SegmentStats]
     findings: list[Finding]
     geometry: DiscGeometry | None = None
-    numbers: CamNumbers | DrumNumbers | None = None
+    numbers: CamNumbers | DrumNumbers | LinearNumbers | None = None
     verification: Verification | None = None
     drum: DrumDense | None = None
     dynamics: Dynamics | None = None
     shape: ShapeNumbers | None = None
+    linear: LinearGeometry | None = None
+    groove: GrooveWalls | None = None
+    partner: Partner | None = None
 
     @property
     def exit_code(self) -> int:
@@ -61,7 +68,9 @@ def analyse(design: Design) -> Analysis:
     from dataclasses import replace
 
     analysis = _analyse_geometry(design)
-    if design.follower.mass is None:
+    if design.follower.mass is None or analysis.groove is not None or analysis.partner:
+        # a groove, a conjugate pair or a yoke drives its follower both ways: no spring to
+        # size, and the forces on either side are theirs (camfab.geometry.groove, .conjugate)
         return analysis
     from camfab.analysis.dynamics import dynamics, jump_finding
 
@@ -88,7 +97,11 @@ def _analyse_geometry(design: Design) -> Analysis:
         drum_nums = drum_numbers(dense, len(program.segments))
         findings = [*drum_findings(design, dense, drum_nums), *findings]
         return Analysis(design, program, units, stats, findings, numbers=drum_nums, drum=dense)
-    if design.cam.type != "disc" and not design.cam.shaped:
+    if design.cam.linear:
+        from camfab.analysis.linear_checks import analyse_linear
+
+        return analyse_linear(design, program, units, stats, findings)
+    if not design.cam.plate and not design.cam.shaped:
         return Analysis(design, program, units, stats, findings)
     from camfab.analysis.cam_checks import cam_findings, cam_numbers
     from camfab.geometry.disc_geometry import disc_geometry
@@ -101,7 +114,16 @@ def _analyse_geometry(design: Design) -> Analysis:
         from camfab.analysis.shape_numbers import shape_numbers
 
         shape = shape_numbers(design, program)
-    return Analysis(design, program, units, stats, findings, geometry, numbers, shape=shape)
+    analysis = Analysis(design, program, units, stats, findings, geometry, numbers, shape=shape)
+    if design.cam.type == "groove":
+        from camfab.analysis.groove_checks import with_groove
+
+        return with_groove(analysis)
+    if design.cam.type in ("conjugate", "constant-breadth"):
+        from camfab.analysis.partner_checks import with_partner
+
+        return with_partner(analysis)
+    return analysis
 
 
 def _report_json(analysis: Analysis) -> bytes:
@@ -152,7 +174,7 @@ def render(analysis: Analysis) -> Artifacts:
         if output not in requested:
             continue
         if output in exports.files:
-            files[f"{analysis.design.name}.{output}"] = exports.files[output]
+            files.update(exports.files[output])
             continue
         if output in exports.withheld:
             missing.append(f"{output} ({exports.withheld[output]})")

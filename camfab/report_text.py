@@ -33,7 +33,8 @@ def print_summary(analysis: Analysis) -> None:
     console = _console()
     cam, fol = design.cam, design.follower
     speed = f"{cam.speed_rpm:g} rpm" if cam.speed_rpm else "no speed given"
-    console.print(f"[bold]{design.name}[/bold] — {cam.type} cam, {cam.rotation}, {speed}; "
+    motion = "moving toward −X" if cam.linear else cam.rotation
+    console.print(f"[bold]{design.name}[/bold] — {cam.type} cam, {motion}, {speed}; "
                   f"{fol.motion} {fol.type} follower")
     if design.description:
         console.print(design.description)
@@ -69,6 +70,39 @@ def print_summary(analysis: Analysis) -> None:
             f"{_num(geom.cam.prime_radius)} mm, largest radius {_num(numbers.max_radius_mm)} mm; "
             f"pitch curve's smallest convex radius {_num(convex)} mm; {_profile_words(geom)}; "
             f"the follower run over it strays {geom.lift.max_mm:.2g} mm from the design")
+    walls = analysis.groove
+    if walls is not None:
+        changes = walls.contact.changes_deg
+        moves = ("contact passes to the other wall (the roller reverses its spin) at "
+                 + ", ".join(f"{a:.4g}°" for a in changes) if changes else
+                 "the follower never accelerates: no wall carries it")
+        console.print(
+            f"groove: {_num(walls.width)} mm wide (roller {_num(walls.roller_radius)} mm, "
+            f"clearance {_num(walls.clearance)} mm), {_num(walls.depth)} mm deep in a plate "
+            f"{_num(walls.thickness)} mm thick of radius {_num(walls.outer_radius)} mm; {moves}")
+    partner = analysis.partner
+    if partner is not None and partner.contact is not None:
+        sides = partner.sides
+        held = partner.hold
+        passes = ", ".join(f"{math.degrees(float(a)):.4g}° (onto {sides[int(to)]})"
+                           for a, to in zip(partner.contact.changes, partner.contact.onto,
+                                            strict=True)) or "nowhere"
+        console.print(f"held on both sides: gap up to {held.max_gap:.2g} mm, interference up to "
+                      f"{held.max_interference:.2g} mm; the load passes sides at {passes}")
+    linear = analysis.linear
+    if linear is not None:
+        from camfab.analysis.linear_checks import LinearNumbers
+
+        lin = linear.cam
+        convex = numbers.pitch_min_convex.value if isinstance(numbers, LinearNumbers) else None
+        pace = ("" if cam.speed_rpm is None else
+                f", traversing at {_num(lin.stroke * cam.speed_rpm / 60.0)} mm/s")
+        console.print(
+            f"plate: stroke {_num(lin.stroke)} mm{pace}, base height {_num(lin.base_height)} mm, "
+            f"{_num(linear.plate_length)} mm long; pitch curve's smallest convex radius "
+            f"{_num(convex)} mm; "
+            f"outline of {len(linear.outline.vertices)} lines and arcs; the follower run over "
+            f"it strays {linear.lift.max_mm:.2g} mm from the design")
     shape = analysis.shape
     if shape is not None:
         flank = ("straight flanks" if shape.flank_radius is None else

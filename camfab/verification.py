@@ -11,6 +11,7 @@ measured against the exact walls.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
@@ -19,8 +20,12 @@ import numpy as np
 from camfab.analysis.findings import Finding
 
 if TYPE_CHECKING:
+    from camfab.design import Design
     from camfab.export.stl import StlCheck
-    from camfab.geometry.disc_geometry import LiftCheck
+    from camfab.geometry.conjugate import Hold
+    from camfab.geometry.disc_geometry import DiscGeometry, LiftCheck
+    from camfab.geometry.profile import Profile
+    from camfab.motion.program import MotionProgram
     from camfab.pipeline import Analysis
 
 #: Cam-angle step at which the roller is run through a drum's groove read back from the STL.
@@ -44,15 +49,22 @@ class Verification:
     deviation_mm: float | None
     stl: StlCheck | None = None
     exempt: bool = False
+    hold: Hold | None = None
 
 
 @dataclass(frozen=True)
 class Exports:
-    """The manufacturing files by output name (``dxf``, ``svg``, ``stl``) and, for those a
-    design cannot have, why."""
+    """The manufacturing files by output name (``dxf``, ``svg``, ``stl``), each as its files'
+    bytes by file name (a conjugate pair has a DXF per plate), and, for those a design cannot
+    have, why."""
 
-    files: dict[str, bytes]
+    files: dict[str, dict[str, bytes]]
     withheld: dict[str, str]
+
+
+def named(name: str, files: dict[str, bytes]) -> dict[str, dict[str, bytes]]:
+    """One file per output: ``NAME.dxf`` and so on."""
+    return {output: {f"{name}.{output}": data} for output, data in files.items()}
 
 
 def verify_exports(analysis: Analysis, requested: tuple[str, ...]) -> tuple[Analysis, Exports]:
@@ -63,24 +75,47 @@ def verify_exports(analysis: Analysis, requested: tuple[str, ...]) -> tuple[Anal
     is made whether requested or not.
     """
     withheld: dict[str, str] = {}
+    name = analysis.design.name
     if analysis.drum is not None:
-        check, files, withheld = _verify_drum(analysis)
+        check, single, withheld = _verify_drum(analysis)
+        files = named(name, single)
+    elif analysis.linear is not None:
+        from camfab.verify_linear import verify_linear
+
+        check, files = verify_linear(analysis, requested)
+    elif analysis.groove is not None:
+        from camfab.verify_groove import verify_groove
+
+        check, files = verify_groove(analysis, requested)
+    elif analysis.partner is not None:
+        from camfab.verify_partner import verify_partner
+
+        check, files = verify_partner(analysis, requested)
     elif analysis.geometry is not None:
-        check, files = _verify_disc(analysis, requested)
+        check, single, _ = verify_plate(analysis, requested)
+        files = named(name, single)
     else:
         return analysis, Exports({}, {})
     findings = [*analysis.findings, verification_finding(analysis, check)]
+    if check.hold is not None and analysis.partner is not None:
+        # the hold of the cams as written replaces that of the cams as sampled
+        from camfab.analysis.partner_checks import read_back_hold
+
+        findings = [read_back_hold(analysis, check.hold) if f.id == "hold" else f
+                    for f in findings]
+        analysis = replace(analysis, partner=replace(analysis.partner, hold=check.hold))
     wanted = {name: data for name, data in files.items() if name in requested}
     return (replace(analysis, verification=check, findings=findings),
             Exports(wanted, {k: v for k, v in withheld.items() if k in requested}))
 
 
-def _verify_disc(analysis: Analysis, requested: tuple[str, ...]) -> tuple[Verification,
-                                                                         dict[str, bytes]]:
-    from camfab.export.dxf import read_cut_outline, render_dxf
-    from camfab.geometry.curves import offset_inward
-    from camfab.geometry.disc_geometry import lift_check
-    from camfab.geometry.plate import inside_kerf, plate
+def verify_plate(analysis: Analysis, requested: tuple[str, ...]) -> tuple[Verification,
+                                                                         dict[str, bytes],
+                                                                         ReadBack]:
+    """A plate cam's files (``dxf``, ``svg``, ``stl`` by output name), read back: what was
+    found, the files, and the outline read back from the DXF."""
+    from camfab.export.dxf import render_dxf
+    from camfab.geometry.plate import plate
 
     design, geom = analysis.design, analysis.geometry
     assert geom is not None
@@ -97,23 +132,53 @@ def _verify_disc(analysis: Analysis, requested: tuple[str, ...]) -> tuple[Verifi
             stl_check = check_stl(stl, *expected_volume(analysis, contours))
     dxf = render_dxf(analysis, contours)
     files["dxf"] = dxf
-    written = read_cut_outline(dxf, design.mm_per_unit)
-    part = written
-    source = f"CUT outline read back from {design.name}.dxf"
-    if contours.kerf > 0.0:
-        part = inside_kerf(written, contours.kerf, geom.tolerance)
-        source += f", less the kerf/2 of {contours.kerf / 2:.6g} mm the beam removes"
-    lift = lift_check(geom.cam, analysis.program, part)
-    deviation = None
-    if not geom.undercut:
-        exact = offset_inward(geom.dense.working, geom.cam.sigma, -contours.kerf / 2.0)
-        deviation = float(written.distance(exact.xy).max())
+    back = read_back(design, geom, analysis.program, dxf, contours.kerf, f"{design.name}.dxf")
     if "svg" in requested:
         from camfab.export.svg import render_svg
 
         files["svg"] = render_svg(analysis, contours.cut)
-    return Verification(lift, source, len(written.vertices), deviation, stl_check,
-                        exempt=geom.undercut), files
+    return Verification(back.lift, back.source, back.entities, back.deviation, stl_check,
+                        exempt=geom.undercut), files, back
+
+
+@dataclass(frozen=True)
+class ReadBack:
+    """A plate's CUT outline read back from its DXF: the part it makes (the kerf taken off, mm),
+    the follower run over it, its entity count and its largest distance from the exact curve
+    (None for an undercut cam)."""
+
+    part: Profile
+    lift: LiftCheck
+    source: str
+    entities: int
+    deviation: float | None
+
+
+def read_back(design: Design, geom: DiscGeometry, program: MotionProgram, dxf: bytes, kerf: float,
+              file_name: str, move: Callable[[Profile], Profile] | None = None) -> ReadBack:
+    """Read a plate cam's CUT outline back from *dxf* as a reader would, take the laser's
+    *kerf* (mm) back off, and run the follower of *geom* through *program* over it; *move*
+    takes the outline from the frame the file draws it in to the frame of *geom* (a conjugate
+    pair's cam b)."""
+    from camfab.export.dxf import read_cut_outline
+    from camfab.geometry.curves import offset_inward
+    from camfab.geometry.disc_geometry import lift_check
+    from camfab.geometry.plate import inside_kerf
+
+    written = read_cut_outline(dxf, design.mm_per_unit)
+    if move is not None:
+        written = move(written)
+    part = written
+    source = f"CUT outline read back from {file_name}"
+    if kerf > 0.0:
+        part = inside_kerf(written, kerf, geom.tolerance)
+        source += f", less the kerf/2 of {kerf / 2:.6g} mm the beam removes"
+    deviation = None
+    if not geom.undercut:
+        exact = offset_inward(geom.dense.working, geom.cam.sigma, -kerf / 2.0)
+        deviation = float(written.distance(exact.xy).max())
+    return ReadBack(part, lift_check(geom.cam, program, part), source, len(written.vertices),
+                    deviation)
 
 
 def _verify_drum(analysis: Analysis) -> tuple[Verification, dict[str, bytes], dict[str, str]]:

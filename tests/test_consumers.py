@@ -28,7 +28,9 @@ PLATES = [p for p in DESIGN_FILES if load_design(p).cam.type == "disc"
           and load_design(p).cam.thickness is not None]
 DRUMS = [p for p in DESIGN_FILES if load_design(p).cam.type == "cylindrical"
          and render(analyse(load_design(p))).files.get(f"{p.stem}.stl") is not None]
-SOLIDS = PLATES + DRUMS
+#: Face-groove cams: plates whose groove is a pocket (their CUT layer is the plate's circle).
+GROOVES = [p for p in DESIGN_FILES if load_design(p).cam.type == "groove"]
+SOLIDS = PLATES + DRUMS + GROOVES
 
 #: CI sets this so that a missing consumer fails the run instead of skipping its tests.
 REQUIRED = bool(os.environ.get("CAMFAB_REQUIRE_CONSUMERS"))
@@ -100,7 +102,7 @@ def less_prism(tmp_path: Path, name: str, y: float, r: float, height: float,
     return mesh.volume, ours.volume
 
 
-@pytest.mark.parametrize("path", PLATES, ids=[p.stem for p in PLATES])
+@pytest.mark.parametrize("path", PLATES + GROOVES, ids=[p.stem for p in PLATES + GROOVES])
 def test_openscad_takes_the_stl_into_a_boolean(path: Path, tmp_path: Path) -> None:
     design, _ = written(path, tmp_path)
     base = design.cam.base_radius

@@ -88,7 +88,7 @@ CASES = [
     ("tab-indent", "  bore: 10", "\tbore: 10", 9, "", "invalid YAML"),
     ("duplicate-key", "  bore: 10", "  bore: 10\n  bore: 12", 10, "cam.bore", "duplicate"),
     ("bore-too-big", "bore: 10", "bore: 40", 9, "cam.bore", "material"),
-    ("unsupported-cam", "type: disc", "type: groove", 4, "cam.type", "not built"),
+    ("unknown-cam", "type: disc", "type: grove", 4, "cam.type", "groove"),
     ("keyway-without-bore", "  bore: 10", "  keyway: {width: 3, depth: 1}", 9, "cam.keyway",
      "needs a bore"),
     ("motion-not-list", "  - rise:   {angle: 120, lift: 40, law: harmonic}\n", "", None,
@@ -240,10 +240,12 @@ def test_mutated_values_build_or_fail_cleanly(data) -> None:
         assert "\n" not in str(exc)
 
 
-def test_a_cam_type_not_built_yet_is_named_before_its_fields(tmp_path: Path) -> None:
+def test_a_linear_cam_refuses_a_flat_face_and_says_why(tmp_path: Path) -> None:
     (tmp_path / "ca.yaml").write_text(
         "name: ca\ncam:\n  type: linear\n  stroke: 300\n  base_height: 5\n"
-        "follower: {type: flat}\n")
+        "follower: {type: flat}\nmotion:\n  - dwell: {travel: 300}\n")
     result = run_cli("check", "ca.yaml", cwd=tmp_path)
     assert result.exit_code == 2
-    assert result.stderr.startswith("ca.yaml:3: cam.type: 'linear' cams are not built")
+    assert result.stderr.startswith("ca.yaml:6: follower.type: a linear cam takes a roller or "
+                                    "knife follower")
+    assert "rests on the highest point" in result.stderr

@@ -14,9 +14,10 @@ import numpy as np
 from camfab.analysis.findings import Finding
 from camfab.analysis.kinematics import degrees
 from camfab.analysis.ranges import Range, merge, ranges_deg
-from camfab.arrays import Array, Mask
+from camfab.arrays import Array, Index, Mask
 from camfab.design import Design
 from camfab.geometry.disc_geometry import DiscGeometry
+from camfab.motion.program import MotionProgram
 
 
 @dataclass(frozen=True)
@@ -53,27 +54,45 @@ class CamNumbers:
     undercut_ranges: tuple[Range, ...]
 
 
+#: The extremes every plate cam reports: the pitch curve's smallest convex and concave radii,
+#: the profile's, the largest pressure angle and each segment's.
+CurveExtremes = tuple[Extreme, Extreme, Extreme, Extreme, Extreme, list[Extreme]]
+
+
+def curve_extremes(theta: Array, pitch_radius: Array, working_radius: Array, folds: Mask,
+                   pressure_angle: Array, segment: Index, segment_count: int) -> CurveExtremes:
+    """The smallest convex and concave radii (mm) of the pitch and working curves, the largest
+    |pressure angle| (deg) over the cycle and in each segment, on a dense grid of *theta*."""
+    rp, rw = pitch_radius, working_radius
+    phi = np.degrees(np.abs(pressure_angle))
+    return (extreme(theta, rp, rp > 0, largest=False),
+            extreme(theta, -rp, rp < 0, largest=False),
+            extreme(theta, rw, rw > 0, largest=False),
+            # the raw envelope's loops run backwards (ρ < 0) but are cut away: not concave parts
+            extreme(theta, -rw, (rw < 0) & ~folds, largest=False),
+            extreme(theta, phi, largest=True),
+            [extreme(theta, phi, segment == i, largest=True) for i in range(segment_count)])
+
+
 def cam_numbers(geom: DiscGeometry, segment_count: int) -> CamNumbers:
     """Extremes of curvature and pressure angle, radii, face contact and undercut ranges."""
     dense = geom.dense
     theta = dense.theta
-    rp, rw = dense.pitch.radius, dense.working.radius
-    phi = np.degrees(np.abs(dense.pressure_angle))
-    per_segment = [extreme(theta, phi, dense.segment == i, largest=True)
-                   for i in range(segment_count)]
     contact = None
     if dense.face_contact is not None:
         contact = (float(dense.face_contact.min()), float(dense.face_contact.max()))
     undercut = merge([*ranges_deg(theta, geom.folds),
                       *ranges_deg(geom.working.theta, geom.cut)])
+    pitch_convex, pitch_concave, convex, concave, pressure, per_segment = curve_extremes(
+        theta, dense.pitch.radius, dense.working.radius, geom.folds, dense.pressure_angle,
+        dense.segment, segment_count)
     return CamNumbers(
         max_radius_mm=float(np.max(geom.profile.radii())),
-        pitch_min_convex=extreme(theta, rp, rp > 0, largest=False),
-        pitch_min_concave=extreme(theta, -rp, rp < 0, largest=False),
-        profile_min_convex=extreme(theta, rw, rw > 0, largest=False),
-        # the raw envelope's loops run backwards (ρ < 0) but are cut away: not concave parts
-        profile_min_concave=extreme(theta, -rw, (rw < 0) & ~geom.folds, largest=False),
-        pressure_angle=extreme(theta, phi, largest=True),
+        pitch_min_convex=pitch_convex,
+        pitch_min_concave=pitch_concave,
+        profile_min_convex=convex,
+        profile_min_concave=concave,
+        pressure_angle=pressure,
         segment_pressure=per_segment,
         face_contact_mm=contact,
         undercut_ranges=undercut,
@@ -219,7 +238,8 @@ def face_width_finding(design: Design, numbers: CamNumbers) -> Finding | None:
                    f"{fmt(fol.face_width)} mm {verdict}", needed, fol.face_width, "mm")
 
 
-def cutter_finding(design: Design, geom: DiscGeometry, numbers: CamNumbers) -> Finding | None:
+def cutter_finding(design: Design, geom: DiscGeometry, numbers: CamNumbers,
+                   program: MotionProgram | None = None) -> Finding | None:
     """Can a milling cutter of ``cutter_radius`` (running outside the outline) make the profile?
 
     It cannot follow a concave part of smaller radius, nor reach into a sharp hollow; what it
@@ -263,7 +283,7 @@ def cutter_finding(design: Design, geom: DiscGeometry, numbers: CamNumbers) -> F
         value = 0.0
         cause = "it has a sharp hollow (a velocity step of the motion makes one)"
         advice = "a motion law without a velocity step, or finishing the hollow by hand, cuts it"
-    milled = lift_check(geom.cam, design.program, Profile.from_points(closed))
+    milled = lift_check(geom.cam, program or design.program, Profile.from_points(closed))
     return Finding(
         "cutter", False, "error",
         f"a cutter of radius {fmt(radius)} mm cannot follow the profile at {where(spots)}: "
@@ -272,12 +292,13 @@ def cutter_finding(design: Design, geom: DiscGeometry, numbers: CamNumbers) -> F
         f"{fmt(milled.at_deg)}°; {advice}", value, radius, "mm", spots)
 
 
-def cam_findings(design: Design, geom: DiscGeometry,
-                 numbers: CamNumbers) -> list[Finding]:
-    """Every geometric check of a disc cam."""
+def cam_findings(design: Design, geom: DiscGeometry, numbers: CamNumbers,
+                 program: MotionProgram | None = None) -> list[Finding]:
+    """Every geometric check of a disc cam (driving its follower through *program*, by default
+    the design's)."""
     found = [pressure_angle_finding(design, geom, numbers),
              undercut_finding(design, geom, numbers),
              curvature_finding(design, geom, numbers),
              face_width_finding(design, numbers),
-             cutter_finding(design, geom, numbers)]
+             cutter_finding(design, geom, numbers, program)]
     return [f for f in found if f is not None]

@@ -28,6 +28,12 @@ _CAM = {
                      "nose_radius", "flank_angle", "top_dwell", "thickness", "bore", "keyway"),
     "tangent": ("type", "rotation", "speed_rpm", "base_radius", "lift", "lift_angle",
                 "nose_radius", "top_dwell", "thickness", "bore", "keyway"),
+    "groove": ("type", "rotation", "speed_rpm", "base_radius", "thickness", "groove_depth",
+               "outer_radius", "bore", "keyway"),
+    "conjugate": ("type", "rotation", "speed_rpm", "base_radius", "thickness", "bore", "keyway"),
+    "constant-breadth": ("type", "rotation", "speed_rpm", "base_radius", "thickness", "bore",
+                         "keyway"),
+    "linear": ("type", "speed_rpm", "stroke", "base_height", "thickness"),
 }
 _SECTIONS: dict[str, tuple[str, ...]] = {
     "spring": ("rate", "preload", "initial_compression", "gravity", "damping", "external_load"),
@@ -117,6 +123,7 @@ class _Shaper:
     def __init__(self, doc: SourceDocument) -> None:
         self.doc = doc
         self.segment_keys: dict[int, str] = {}
+        self.linear = False
 
     def yaml_path(self, model_path: Path_) -> Path_:
         """Where a model path is in the file: ``motion[i].x`` lives under the segment's key."""
@@ -158,6 +165,7 @@ class _Shaper:
         for section, allowed in _SECTIONS.items():
             self.keys(data.get(section), allowed, (section,), section)
         if "motion" in data:
+            self.linear = cam_type == "linear"
             data["motion"] = self._motion(data["motion"])
         return data
 
@@ -181,7 +189,8 @@ class _Shaper:
                 self.fail(("motion", i), f"a {key} needs its data as a mapping "
                           "(angle, lift, law)", got=body)
             self._segment_params(i, kind, body)
-            self.keys(body, _segment_keys(kind, body.get("law")), ("motion", i), f"a {kind}")
+            self.keys(body, _segment_keys(kind, body.get("law"), self.linear), ("motion", i),
+                      f"a {kind}")
             for end in ("start", "end"):
                 self.keys(body.get(end), _CONDITIONS, ("motion", i, end), "boundary conditions")
             body = dict(body)
@@ -192,10 +201,14 @@ class _Shaper:
 
     def _segment_params(self, i: int, kind: str, body: dict[str, Any]) -> None:
         """Parameters that belong to other laws, named as such rather than as unknown keys."""
-        allowed = _segment_keys(kind, body.get("law"))
+        allowed = _segment_keys(kind, body.get("law"), self.linear)
         for key in body:
             if key in allowed:
                 continue
+            if key in ("angle", "travel"):
+                self.fail(("motion", i, key), "a linear cam's segments give their travel (a "
+                          "length along the cam), not an angle" if self.linear else
+                          "only a linear cam's segments give a travel; this cam's give an angle")
             if kind == "dwell" and key in ("lift", "law"):
                 self.fail(("motion", i, key), "a dwell has only an angle (no lift or law)")
             owners = [law for law, params in _LAW_KEYS.items() if key in params]
@@ -246,13 +259,16 @@ def _follower_keys(cam_type: Any, follower: dict[str, Any]) -> tuple[str, ...]:
         keys.append("offset")
     keys += {"roller": ["roller_radius"], "mushroom": ["face_radius"],
              "flat": ["face_width"]}.get(ftype or "", [])
-    if cam_type == "cylindrical":
+    if cam_type in ("cylindrical", "groove"):
         keys.append("groove_clearance")
+    if cam_type == "conjugate":
+        keys.append("arm_angle" if motion == "oscillating" else "roller_spacing")
     if ftype not in ("knife", "roller", "flat", "mushroom") or motion not in (
             "translating", "oscillating"):
         # the type itself is wrong: accept every follower key and let the type error speak
         keys = ["type", "motion", "mass", "offset", "roller_radius", "face_radius", "face_width",
-                "pivot_distance", "arm_length", "pivot_side", "face_offset", "groove_clearance"]
+                "pivot_distance", "arm_length", "pivot_side", "face_offset", "groove_clearance",
+                "roller_spacing", "arm_angle"]
     return tuple(keys)
 
 
@@ -262,15 +278,17 @@ def _follower_label(follower: dict[str, Any]) -> str:
     return f"{article} {motion} {_text(follower.get('type')) or ''} follower"
 
 
-def _segment_keys(kind: str, law: Any) -> tuple[str, ...]:
+def _segment_keys(kind: str, law: Any, linear: bool = False) -> tuple[str, ...]:
+    """The keys a segment takes: its angle (a linear cam's: its travel), and its law's."""
+    span = "travel" if linear else "angle"
     if kind == "dwell":
-        return ("angle",)
+        return (span,)
     from camfab.motion.laws import canonical_law_name
 
     name = canonical_law_name(law) if isinstance(law, str) else None
     if name is None:  # an unknown law is reported on its own; accept every law's parameters
-        return ("angle", "lift", "law", "blend", "start", "end", "points", "csv")
-    return ("angle", "lift", "law", *_LAW_KEYS.get(name, ()))
+        return (span, "lift", "law", "blend", "start", "end", "points", "csv")
+    return (span, "lift", "law", *_LAW_KEYS.get(name, ()))
 
 
 _PYDANTIC_PROBLEMS = {

@@ -34,7 +34,8 @@ if TYPE_CHECKING:
     from camfab.geometry.shaped import ShapedCam
     from camfab.motion.program import MotionProgram
 
-CamType = Literal["disc", "cylindrical", "circular-arc", "tangent", "groove", "conjugate", "linear"]
+CamType = Literal["disc", "cylindrical", "circular-arc", "tangent", "groove", "conjugate",
+                  "constant-breadth", "linear"]
 FollowerType = Literal["knife", "roller", "flat", "mushroom"]
 OutputName = Literal["dxf", "svg", "stl", "report", "csv"]
 
@@ -105,13 +106,19 @@ class Keyway(Frozen):
 #: Cam types whose shape defines the motion (THEORY §D): they have no motion list.
 SHAPED_CAM_TYPES = ("circular-arc", "tangent")
 
+#: Plate cams turning about their centre, built on the disc cam's exact curves: the plain disc,
+#: the face-groove cam, the conjugate pair and the constant-breadth cam (THEORY §B, §F).
+PLATE_CAM_TYPES = ("disc", "groove", "conjugate", "constant-breadth")
+
 
 class Cam(Frozen):
     """The cam body. Disc: ``base_radius`` (+ ``thickness``, ``bore``, ``keyway``).
     Cylindrical: ``radius`` (outer), ``length``, ``groove_depth``, ``groove_start``, ``bore``.
     Circular-arc and tangent: ``base_radius``, ``lift``, ``lift_angle`` (the angle of ascent),
     ``nose_radius`` (or ``flank_angle`` for a circular-arc cam; a tangent cam takes either
-    ``lift_angle`` or ``nose_radius``), ``top_dwell``, and the plate's keys."""
+    ``lift_angle`` or ``nose_radius``), ``top_dwell``, and the plate's keys.
+    Groove: a disc's keys with ``groove_depth`` and ``outer_radius``. Conjugate and
+    constant-breadth: a disc's keys. Linear: ``stroke``, ``base_height``, ``thickness``."""
 
     type: CamType
     rotation: Literal["ccw", "cw"] = "ccw"
@@ -129,6 +136,19 @@ class Cam(Frozen):
     nose_radius: PositiveLength | None = None
     flank_angle: PositiveAngle | None = None
     top_dwell: NonNegativeAngle = 0.0
+    outer_radius: PositiveLength | None = None
+    stroke: PositiveLength | None = None
+    base_height: PositiveLength | None = None
+
+    @property
+    def plate(self) -> bool:
+        """True for a plate cam turning about its centre with a disc cam's curves."""
+        return self.type in PLATE_CAM_TYPES
+
+    @property
+    def linear(self) -> bool:
+        """True for a translating (wedge) cam that moves along X instead of turning."""
+        return self.type == "linear"
 
     @property
     def shaped(self) -> bool:
@@ -160,6 +180,8 @@ class Follower(Frozen):
     pivot_side: Literal["right", "left"] = "right"
     face_offset: Length = 0.0
     groove_clearance: NonNegativeLength = 0.0
+    roller_spacing: PositiveLength | None = None
+    arm_angle: PositiveAngle | None = None
     mass: Annotated[float, _as(U.MASS), Field(gt=0)] | None = None
 
     @field_validator("type", mode="before")
@@ -224,7 +246,8 @@ class Segment(Frozen):
     """One segment of the motion program (``kind`` comes from the one-key map in the file)."""
 
     kind: Literal["rise", "return", "dwell"]
-    angle: PositiveAngle
+    angle: PositiveAngle | None = None
+    travel: PositiveLength | None = None
     lift: Lift | None = None
     law: str | None = None
     blend: Annotated[float, Field(gt=0, le=0.5)] | None = None
@@ -323,7 +346,17 @@ class Design(Frozen):
         from camfab.motion.program import build_program
 
         assert self.motion is not None, "the design rules require a motion list"
-        return build_program(self.motion)
+        specs = list(self.motion)
+        if self.cam.linear:  # a travel along the stroke is that share of a cycle
+            stroke = self.cam.stroke or 1.0
+            specs = [seg.model_copy(update={"angle": 2.0 * math.pi * (seg.travel or 0.0) / stroke})
+                     for seg in specs]
+        total = sum(seg.angle or 0.0 for seg in specs)
+        if self.cam.type == "constant-breadth" and math.isclose(total, math.pi, abs_tol=1e-9):
+            from camfab.motion.mirror import half_turn
+
+            return half_turn(specs)  # type: ignore[arg-type]
+        return build_program(specs)  # type: ignore[arg-type]
 
     @cached_property
     def shape(self) -> ShapedCam:

@@ -19,7 +19,8 @@ if TYPE_CHECKING:
     from camfab.motion.program import MotionProgram
 
 #: Cam types this version builds; the others are part of the design format but not built yet.
-SUPPORTED_CAM_TYPES = ("disc", "cylindrical", "circular-arc", "tangent")
+SUPPORTED_CAM_TYPES = ("disc", "cylindrical", "circular-arc", "tangent", "groove", "conjugate",
+                       "constant-breadth", "linear")
 
 #: Smallest wall of material camfab accepts between a groove or bore and the part's edge (mm):
 #: thinner walls do not survive printing or machining.
@@ -32,12 +33,26 @@ MIN_SEGMENT_DEG = 1e-6
 #: Follower contact shapes per cam type.
 FOLLOWERS_FOR_CAM = {"disc": ("knife", "roller", "flat", "mushroom"), "cylindrical": ("roller",),
                      "circular-arc": ("knife", "roller", "flat", "mushroom"),
-                     "tangent": ("knife", "roller", "flat", "mushroom")}
+                     "tangent": ("knife", "roller", "flat", "mushroom"),
+                     "groove": ("roller",), "conjugate": ("roller",),
+                     "constant-breadth": ("flat", "roller"), "linear": ("roller", "knife")}
+
+#: Why a cam type refuses a follower it cannot drive, where the list alone does not say.
+FOLLOWER_HINTS = {
+    ("linear", "flat"): "a flat face perpendicular to its motion rests on the highest point of "
+                        "a cam sliding under it, so a linear cam cannot move it",
+}
 
 #: Keys each cam type requires.
 REQUIRED_CAM_KEYS = {"disc": ("base_radius",), "cylindrical": ("radius", "length", "groove_depth"),
                      "circular-arc": ("base_radius", "lift", "lift_angle"),
-                     "tangent": ("base_radius", "lift")}
+                     "tangent": ("base_radius", "lift"),
+                     "groove": ("base_radius", "thickness", "groove_depth"),
+                     "conjugate": ("base_radius",), "constant-breadth": ("base_radius",),
+                     "linear": ("stroke", "base_height")}
+
+#: Cam types that drive a translating follower only.
+TRANSLATING_ONLY = ("cylindrical", "circular-arc", "tangent", "constant-breadth", "linear")
 
 
 class RuleViolation(CamfabError):
@@ -63,6 +78,7 @@ def check_rules(design: Design) -> None:
     program = _check_motion(design)
     _check_cam_fit(design, program.max_lift)
     _check_oscillating(design, program.max_lift)
+    _check_groove_fit(design)
     _check_swinging_face(design, program)
     _check_manufacturing(design)
     _check_other(design)
@@ -83,7 +99,11 @@ def _check_cam(design: Design) -> None:
             fail(("cam", key), f"required for a {cam.type} cam", show_got=False)
     if cam.shaped:
         _check_shape(design)
-    if cam.type != "cylindrical":
+    if cam.type == "groove":
+        _check_groove(design)
+    if cam.type == "linear":
+        _check_linear(design)
+    if cam.type not in ("cylindrical", "linear"):
         rb = cam.base_radius or 0.0
         if cam.bore is not None and cam.bore / 2 > rb - MIN_WALL_MM:
             fail(("cam", "bore"),
@@ -99,6 +119,51 @@ def _check_cam(design: Design) -> None:
         if outer is not None and cam.bore / 2 + cam.keyway.depth > outer - MIN_WALL_MM:
             fail(("cam", "keyway", "depth"),
                  f"cuts to within {MIN_WALL_MM:g} mm of the cam's edge")
+
+
+def _check_groove(design: Design) -> None:
+    """The groove is a pocket: it must leave a floor under it."""
+    cam = design.cam
+    assert cam.thickness is not None and cam.groove_depth is not None
+    if cam.groove_depth > cam.thickness - MIN_WALL_MM:
+        fail(("cam", "groove_depth"), f"must leave at least {MIN_WALL_MM:g} mm of floor under "
+             f"the groove (thickness {_mm(cam.thickness)})")
+
+
+def _check_groove_fit(design: Design) -> None:
+    """A groove cam's roller (its radius plus half the clearance) must reach the prime circle
+    from an oscillating follower's pivot, and the plate's ``outer_radius`` must leave a wall of
+    material outside the groove's outer wall."""
+    cam, fol = design.cam, design.follower
+    if cam.type != "groove":
+        return
+    half = (fol.roller_radius or 0.0) + fol.groove_clearance / 2
+    rp = (cam.base_radius or 0.0) + half
+    if fol.oscillating:
+        a, arm = fol.pivot_distance or 0.0, fol.arm_length or 0.0
+        if not abs(a - arm) < rp < a + arm:
+            fail(("follower", "arm_length"), f"the arm cannot reach the prime circle of the "
+                 f"groove's centre line: need |pivot_distance − arm_length| < {_mm(rp)} < "
+                 "pivot_distance + arm_length")
+    if cam.outer_radius is None:
+        return
+    from camfab.geometry.groove import outer_wall_reach
+
+    reach = outer_wall_reach(design)
+    if cam.outer_radius < reach + MIN_WALL_MM:
+        fail(("cam", "outer_radius"), f"must leave at least {MIN_WALL_MM:g} mm of material "
+             f"outside the groove: its outer wall reaches {_mm(reach)} from the cam centre "
+             f"(outer_radius at least {_mm(reach + MIN_WALL_MM)})")
+
+
+def _check_linear(design: Design) -> None:
+    """The plate must stand under the follower at its lowest."""
+    cam, fol = design.cam, design.follower
+    assert cam.base_height is not None
+    low = cam.base_height - fol.trace_radius
+    if low < MIN_WALL_MM:
+        fail(("cam", "base_height"), f"leaves {_mm(low)} of plate under the follower at zero "
+             f"lift (base height less the roller radius); at least {MIN_WALL_MM:g} mm is needed")
 
 
 def _check_shape(design: Design) -> None:
@@ -123,13 +188,25 @@ def _check_follower(design: Design) -> None:
     allowed = FOLLOWERS_FOR_CAM[cam.type]
     if fol.type not in allowed:
         fail(("follower", "type"), f"a {cam.type} cam takes a {' or '.join(allowed)} follower",
-             allowed=", ".join(allowed))
-    if cam.type in ("cylindrical", "circular-arc", "tangent") and fol.oscillating:
+             allowed=", ".join(allowed), hint=FOLLOWER_HINTS.get((cam.type, fol.type)))
+    if cam.type in TRANSLATING_ONLY and fol.oscillating:
         fail(("follower", "motion"), f"a {cam.type} cam drives a translating follower",
              allowed="translating")
     if cam.shaped and fol.offset != 0.0:
         fail(("follower", "offset"), f"a {cam.type} cam's follower moves along a line through "
              "the cam centre: the offset must be 0")
+    if cam.type == "linear" and fol.offset != 0.0:
+        fail(("follower", "offset"), "a linear cam's follower line is where the travel starts: "
+             "the offset must be 0 (a dwell shifts the motion along the cam)")
+    if cam.type == "constant-breadth" and fol.type == "roller" and fol.offset != 0.0:
+        fail(("follower", "offset"), "the two rollers of a constant-diameter cam lie on a line "
+             "through the cam centre: the offset must be 0")
+    if cam.type == "conjugate" and not fol.oscillating and fol.roller_spacing is None:
+        fail(("follower", "roller_spacing"), "required for a conjugate cam (the distance between "
+             "the two rollers' centres along the follower)", show_got=False)
+    if cam.type == "conjugate" and fol.oscillating and fol.arm_angle is None:
+        fail(("follower", "arm_angle"), "required for an oscillating conjugate cam (the angle "
+             "at the pivot between the bell-crank's two arms)", show_got=False)
     if fol.type == "roller" and fol.roller_radius is None:
         fail(("follower", "roller_radius"), "required for a roller follower", show_got=False)
     if fol.type == "mushroom" and fol.face_radius is None:
@@ -138,7 +215,7 @@ def _check_follower(design: Design) -> None:
         for key in ("pivot_distance", "arm_length"):
             if getattr(fol, key) is None:
                 fail(("follower", key), "required for an oscillating follower", show_got=False)
-    elif cam.type == "disc" and fol.type != "flat":
+    elif cam.plate and fol.type != "flat":
         rp = (cam.base_radius or 0.0) + fol.trace_radius
         if abs(fol.offset) >= rp:
             fail(("follower", "offset"),
@@ -155,8 +232,19 @@ def _check_motion(design: Design) -> MotionProgram:
         return design.program
     if design.motion is None:
         fail(("motion",), "required (a list of rise, dwell and return segments)", show_got=False)
+    linear = design.cam.linear
+    span_key = "travel" if linear else "angle"
     for i, seg in enumerate(design.motion):
-        if math.degrees(seg.angle) < MIN_SEGMENT_DEG:
+        span = seg.travel if linear else seg.angle
+        if span is None:
+            fail(("motion", i, span_key), "required", show_got=False)
+        if linear:
+            if seg.law in ("polynomial", "table"):
+                fail(("motion", i, "law"), "a linear cam's segments take the standard laws (a "
+                     "polynomial's or a table's conditions and points are per cam angle)",
+                     allowed=", ".join(n for n in _law_names().split(", ")
+                                       if n not in ("polynomial", "table")))
+        elif math.degrees(span) < MIN_SEGMENT_DEG:
             fail(("motion", i, "angle"), f"must be at least {MIN_SEGMENT_DEG:g}°")
         if seg.kind == "dwell":
             continue
@@ -175,13 +263,82 @@ def _check_motion(design: Design) -> MotionProgram:
                  show_got=False)
         if seg.lift is None and seg.kind == "rise" and seg.law != "table":
             fail(("motion", i, "lift"), "required for a rise", show_got=False)
+    if linear:
+        _check_travel(design)
     try:
-        return design.program
+        program = design.program
     except ProgramError as exc:
         path: tuple[str | int, ...] = ("motion",) if exc.index is None else ("motion", exc.index)
         if exc.field:
             path = (*path, *_split(exc.field))
         fail(path, exc.problem, show_got=False)
+    if design.cam.type == "constant-breadth":
+        _check_half_turn(design, program)
+    if design.cam.type == "conjugate":
+        _check_partner(design, program)
+    return program
+
+
+def _check_partner(design: Design, program: MotionProgram) -> None:
+    """A conjugate pair's cam b must have a base circle around the bore."""
+    from camfab.geometry.conjugate import partner_base_radius
+    from camfab.geometry.disc_geometry import disc_cam
+
+    cam_a = disc_cam(design)
+    need = max(MIN_WALL_MM, (design.cam.bore or 0.0) / 2.0 + MIN_WALL_MM)
+    base_b = partner_base_radius(design, cam_a)
+    if design.follower.oscillating:
+        if base_b < need:
+            fail(("follower", "arm_angle"), "leaves cam b no base circle around the bore (cam "
+                 f"b's base radius would be {_mm(base_b)}, at least {_mm(need)} is needed): "
+                 "open the angle between the arms")
+        swing = math.degrees(cam_a.rest + program.max_lift)
+        if math.degrees(design.follower.arm_angle or 0.0) - math.degrees(cam_a.rest) >= 180.0:
+            fail(("follower", "arm_angle"), f"arm b would pass 180° from the line of centres "
+                 f"(arm a turns from {math.degrees(cam_a.rest):.4g}° to {swing:.4g}°)")
+        fol = cam_a.follower
+        top = (design.follower.arm_angle or 0.0) - cam_a.rest
+        reach = math.sqrt(fol.pivot_distance**2 + fol.arm_length**2 - 2 * fol.pivot_distance
+                          * fol.arm_length * math.cos(top)) - fol.radius
+        if reach >= fol.pivot_distance:
+            fail(("follower", "arm_angle"), f"cam b would reach {_mm(reach)} from its centre, "
+                 "past the pivot: the pivot must lie outside both cams")
+        return
+    if base_b < need:
+        reach = need + cam_a.follower.radius
+        least = (cam_a.rest + program.max_lift
+                 + math.sqrt(max(reach * reach - cam_a.follower.offset ** 2, 0.0)))
+        fail(("follower", "roller_spacing"), "leaves cam b no base circle around the bore "
+             f"(cam b's base radius would be {_mm(base_b)}, at least {_mm(need)} is needed): "
+             f"the rollers must be at least {_mm(least)} apart")
+
+
+def _check_travel(design: Design) -> None:
+    """A linear cam's segments must cover its stroke exactly."""
+    stroke = design.cam.stroke or 0.0
+    motion = design.motion or ()
+    total = sum(seg.travel or 0.0 for seg in motion)
+    if not math.isclose(total, stroke, rel_tol=1e-9, abs_tol=1e-9):
+        fail(("motion",), f"the segment travels sum to {_mm(total)}; they must sum to the "
+             f"stroke {_mm(stroke)}", show_got=False)
+
+
+def _check_half_turn(design: Design, program: MotionProgram) -> None:
+    """A constant-breadth (or constant-diameter) cam's motion must satisfy s(θ + 180°) =
+    h − s(θ): only the first half turn is free."""
+    from camfab.motion.mirror import half_turn_mismatch
+
+    theta, error = half_turn_mismatch(program)
+    worst = int(abs(error).argmax())
+    if abs(error[worst]) <= 1e-9 * max(program.max_lift, 1.0):
+        return
+    at = float(theta[worst])
+    index = next(seg.index for seg in reversed(program.segments) if seg.start <= at + 1e-12)
+    fail(("motion", index), "a constant-breadth cam's two faces (or rollers) stay the same "
+         "distance apart, so the motion must satisfy s(θ + 180°) = h − s(θ); at "
+         f"θ = {math.degrees(at) - 180.0:.6g}° and {math.degrees(at):.6g}° it is off by "
+         f"{_mm(abs(float(error[worst])))}", show_got=False,
+         hint="give only the first 180° of the motion and camfab completes the rest")
 
 
 def _check_cam_fit(design: Design, max_lift: float) -> None:
@@ -210,7 +367,7 @@ def _check_cam_fit(design: Design, max_lift: float) -> None:
 
 def _check_oscillating(design: Design, max_swing: float) -> None:
     fol = design.follower
-    if not fol.oscillating or design.cam.type != "disc":
+    if not fol.oscillating or not design.cam.plate:
         return
     a, arm = fol.pivot_distance or 0.0, fol.arm_length or 0.0
     rb = design.cam.base_radius or 0.0
@@ -277,7 +434,14 @@ def _check_manufacturing(design: Design) -> None:
              f"must be smaller than the keyway's width ({_mm(cam.keyway.width)})")
 
 
+#: Cams that drive their follower both ways (positive drive): a spring has nothing to do.
+POSITIVE_DRIVE = ("groove", "conjugate", "constant-breadth")
+
+
 def _check_other(design: Design) -> None:
+    if design.spring is not None and design.cam.type in POSITIVE_DRIVE:
+        fail(("spring",), f"a {design.cam.type} cam drives its follower both ways (positive "
+             "drive): it has no return spring; remove the spring section", show_got=False)
     limit = design.limits.pressure_angle
     if limit is not None and limit >= math.pi / 2:
         fail(("limits", "pressure_angle"), "must be below 90°")

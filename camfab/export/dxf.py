@@ -28,6 +28,7 @@ if TYPE_CHECKING:
 #: Layer name -> (ACI colour, linetype): CUT red, references in muted colours.
 LAYERS = {
     "CUT": (1, "CONTINUOUS"),
+    "POCKET": (6, "CONTINUOUS"),
     "PITCH": (5, "DASHED"),
     "BASE": (8, "CONTINUOUS"),
     "PRIME": (8, "DASHDOT"),
@@ -45,7 +46,7 @@ READ_GAP = 1e-6
 INSUNITS = {"mm": 4, "in": 1}
 
 
-def _add_contour(msp: Any, profile: Profile, scale: float, layer: str,
+def add_contour(msp: Any, profile: Profile, scale: float, layer: str,
                  closed: bool = True) -> None:
     """A contour as LINE and ARC entities meeting end to end (an open one without its closing
     edge).
@@ -71,14 +72,14 @@ def _add_contour(msp: Any, profile: Profile, scale: float, layer: str,
                     dxfattribs=attribs)
 
 
-def _add_contours(msp: Any, contours: Contours, scale: float, layer: str) -> None:
+def add_contours(msp: Any, contours: Contours, scale: float, layer: str) -> None:
     for profile in contours.profiles:
-        _add_contour(msp, profile, scale, layer)
+        add_contour(msp, profile, scale, layer)
     for radius in contours.circles:
         msp.add_circle((0.0, 0.0), radius * scale, dxfattribs={"layer": layer})
 
 
-def _new_document(design: Any) -> Any:
+def new_document(design: Any) -> Any:
     """An R2010 drawing in the design's units with camfab's layers."""
     import ezdxf
 
@@ -90,30 +91,31 @@ def _new_document(design: Any) -> Any:
     return doc
 
 
-def _bytes(doc: Any) -> bytes:
+def dxf_bytes(doc: Any) -> bytes:
     stream = io.StringIO()
     doc.write(stream)
     return _strip_volatile(stream.getvalue()).encode("utf-8")
 
 
-def render_dxf(analysis: Analysis, plate: Plate) -> bytes:
-    """The DXF file of *plate* as bytes (R2010, ASCII, no timestamps)."""
+def render_dxf(analysis: Analysis, plate: Plate, label: str | None = None) -> bytes:
+    """The DXF file of *plate* as bytes (R2010, ASCII, no timestamps); *label* names the cam in
+    the note (by default its type: "disc cam")."""
     design, geom = analysis.design, analysis.geometry
     assert geom is not None, "only disc cams have a plate outline"
     scale = 1.0 / design.mm_per_unit
-    doc = _new_document(design)
+    doc = new_document(design)
     msp = doc.modelspace()
     # references first, what is cut last: drawn on top where they coincide (a knife's pitch
     # curve is its profile)
-    _add_contour(msp, fit_arcs(geom.pitch.xy, geom.tolerance), scale, "PITCH")
+    add_contour(msp, fit_arcs(geom.pitch.xy, geom.tolerance), scale, "PITCH")
     msp.add_circle((0.0, 0.0), geom.cam.base_radius * scale, dxfattribs={"layer": "BASE"})
     if geom.cam.prime_radius != geom.cam.base_radius:
         msp.add_circle((0.0, 0.0), geom.cam.prime_radius * scale, dxfattribs={"layer": "PRIME"})
-    _add_marks(msp, analysis, scale, plate)
+    _add_marks(msp, analysis, scale, plate, label)
     if plate.toolpath is not None:
-        _add_contours(msp, plate.toolpath, scale, "TOOLPATH")
-    _add_contours(msp, plate.cut, scale, "CUT")
-    return _bytes(doc)
+        add_contours(msp, plate.toolpath, scale, "TOOLPATH")
+    add_contours(msp, plate.cut, scale, "CUT")
+    return dxf_bytes(doc)
 
 
 def render_development_dxf(analysis: Analysis, band: Profile, centre: Profile,
@@ -123,13 +125,13 @@ def render_development_dxf(analysis: Analysis, band: Profile, centre: Profile,
     (an open chain), the developed surface's rectangle (*size*, mm) on ``MARK``, and a note."""
     design = analysis.design
     scale = 1.0 / design.mm_per_unit
-    doc = _new_document(design)
+    doc = new_document(design)
     msp = doc.modelspace()
     width, height = size[0] * scale, size[1] * scale
     corners = [(0.0, 0.0), (width, 0.0), (width, height), (0.0, height)]
     for a, b in zip(corners, corners[1:] + corners[:1], strict=True):
         msp.add_line(a, b, dxfattribs={"layer": "MARK"})
-    _add_contour(msp, centre, scale, "PITCH", closed=False)
+    add_contour(msp, centre, scale, "PITCH", closed=False)
     unit = design.units
     text = [f"{design.name}: drum cam, {design.cam.rotation}, groove developed at the surface "
             f"(radius {(design.cam.radius or 0.0) * scale:.6g} {unit}), seen from outside",
@@ -139,11 +141,12 @@ def render_development_dxf(analysis: Analysis, band: Profile, centre: Profile,
     for row, line in enumerate(text, start=1):
         msp.add_text(line, height=text_height, dxfattribs={"layer": "NOTE"}).set_placement(
             (0.0, -1.6 * row * text_height))
-    _add_contour(msp, band, scale, "CUT")
-    return _bytes(doc)
+    add_contour(msp, band, scale, "CUT")
+    return dxf_bytes(doc)
 
 
-def _add_marks(msp: Any, analysis: Analysis, scale: float, plate: Plate) -> None:
+def _add_marks(msp: Any, analysis: Analysis, scale: float, plate: Plate,
+               label: str | None = None) -> None:
     geom = analysis.geometry
     assert geom is not None
     rb = geom.cam.base_radius
@@ -154,8 +157,8 @@ def _add_marks(msp: Any, analysis: Analysis, scale: float, plate: Plate) -> None
     msp.add_line((0.0, 0.6 * rb * scale), (0.0, 0.9 * rb * scale), dxfattribs={"layer": "MARK"})
     design = analysis.design
     unit = design.units
-    kind = design.cam.type if design.cam.shaped else "disc"
-    lines = [f"{design.name}: {kind} cam, {design.cam.rotation}, base radius {rb * scale:.6g} "
+    kind = label or f"{design.cam.type} cam"
+    lines = [f"{design.name}: {kind}, {design.cam.rotation}, base radius {rb * scale:.6g} "
              f"{unit}",
              f"outline of {len(plate.cut.profiles[0].vertices)} lines and arcs within "
              f"{design.manufacturing.tolerance * scale:.3g} {unit}"]

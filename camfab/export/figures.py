@@ -24,6 +24,8 @@ DIAGRAM_STEP = math.radians(0.5)
 #: Colours: cut outline, pitch curve, references, violations, follower.
 CUT, PITCH, REFERENCE, BAD, FOLLOWER, WARN = ("#c0392b", "#2c5aa0", "#999999", "#e67e22",
                                               "#2d7d46", "#d4ac0d")
+#: A groove cam's pocket walls, and its wall-change marks.
+POCKET, CHANGE = "#8e44ad", "#0e6e8c"
 
 
 def new_figure(width_in: float, height_in: float, **margins: float) -> Any:
@@ -133,7 +135,11 @@ def _motion_panels(analysis: Analysis, axes: list[Any]) -> None:
 def _pressure_panels(analysis: Analysis, top: Any, bottom: Any) -> None:
     limit = math.degrees(analysis.design.pressure_angle_limit)
     geom, dense = analysis.geometry, analysis.drum
-    if geom is not None:
+    if analysis.linear is not None:
+        from camfab.export.linear_figures import linear_pressure_panels
+
+        linear_pressure_panels(analysis, top, bottom)
+    elif geom is not None:
         theta, phi, pitch, profile = _thin(np.degrees(geom.dense.theta),
                                            np.degrees(geom.dense.pressure_angle),
                                            geom.dense.pitch.radius, geom.dense.working.radius)
@@ -144,6 +150,8 @@ def _pressure_panels(analysis: Analysis, top: Any, bottom: Any) -> None:
         if radius > 0:
             bottom.axhline(radius, color=BAD, linewidth=0.8, linestyle="--",
                            label=f"follower radius {radius:.4g} mm")
+        if analysis.groove is not None:  # the outer wall folds where a concave ρ_p > −R
+            bottom.axhline(-radius, color=BAD, linewidth=0.8, linestyle="--")
     elif dense is not None:
         theta, phi, rho = _thin(np.degrees(dense.theta), np.degrees(dense.pressure_angle),
                                 dense.developed_radius)
@@ -194,7 +202,16 @@ def cam_drawing(analysis: Analysis) -> str | None:
         return _disc_drawing(analysis)
     if analysis.drum is not None:
         return _drum_drawing(analysis)
+    if analysis.linear is not None:
+        return _linear_drawing(analysis)
     return None
+
+
+def _linear_drawing(analysis: Analysis) -> str:
+    """A linear cam's plate at travel 0 with its follower (camfab.export.linear_figures)."""
+    from camfab.export.linear_figures import linear_drawing
+
+    return linear_drawing(analysis)
 
 
 def _disc_drawing(analysis: Analysis) -> str:
@@ -204,10 +221,13 @@ def _disc_drawing(analysis: Analysis) -> str:
     fig = new_figure(6.4, 6.4, left=0.12, bottom=0.08)
     ax = fig.subplots()
     ax.set_aspect("equal")
-    outline = geom.outline_points()
-    ring = np.vstack((outline, outline[:1]))
-    ax.fill(ring[:, 0], ring[:, 1], color="#f4d6d2", zorder=0)
-    ax.plot(ring[:, 0], ring[:, 1], color=CUT, linewidth=1.2, label="cam profile")
+    if analysis.groove is not None:
+        _draw_groove(ax, analysis)
+    else:
+        outline = geom.outline_points()
+        ring = np.vstack((outline, outline[:1]))
+        ax.fill(ring[:, 0], ring[:, 1], color="#f4d6d2", zorder=0)
+        ax.plot(ring[:, 0], ring[:, 1], color=CUT, linewidth=1.2, label="cam profile")
     pitch = np.vstack((geom.pitch.xy, geom.pitch.xy[:1]))
     if fol.radius > 0:
         ax.plot(pitch[:, 0], pitch[:, 1], color=PITCH, linewidth=0.8, linestyle="--",
@@ -218,17 +238,9 @@ def _disc_drawing(analysis: Analysis) -> str:
         ax.plot(radius * np.cos(angle), radius * np.sin(angle), color=REFERENCE,
                 linewidth=0.7, linestyle=style, label=name)
     # where the checks fail, on the profile
-    dense = geom.dense
-    limit = analysis.design.pressure_angle_limit
-    steep = np.abs(dense.pressure_angle) > limit
-    if steep.any():
-        xy = dense.working.xy[steep]
-        ax.plot(xy[:, 0], xy[:, 1], ".", color=WARN, markersize=2,
-                label="pressure angle over the limit")
-    if geom.undercut:
-        cut = geom.working.xy[geom.cut] if geom.cut.any() else dense.working.xy[geom.folds]
-        ax.plot(cut[:, 0], cut[:, 1], ".", color=BAD, markersize=2, label="undercut")
+    mark_failures(ax, analysis, geom)
     _draw_follower(ax, analysis)
+    _draw_partner(ax, analysis)
     ax.plot([0], [0], "+", color="black", markersize=10)
     ax.legend(fontsize=7, loc="lower left")
     ax.set_title(f"{analysis.design.name} at θ = 0 ({analysis.design.cam.rotation})",
@@ -236,6 +248,56 @@ def _disc_drawing(analysis: Analysis) -> str:
     ax.set_xlabel("x (mm)")
     ax.set_ylabel("y (mm)")
     return svg_text(fig)
+
+
+def _draw_groove(ax: Any, analysis: Analysis) -> None:
+    """A groove cam's plate: its outer circle, the groove shaded between its walls, where a
+    wall folds, and a tick across the groove wherever contact passes to the other wall."""
+    from camfab.geometry.curves import perp
+    from camfab.geometry.groove import WALL_NAMES
+
+    geom, walls = analysis.geometry, analysis.groove
+    assert geom is not None and walls is not None
+    angle = np.linspace(0, 2 * math.pi, 361)
+    rim = walls.outer_radius * np.stack((np.cos(angle), np.sin(angle)), axis=-1)
+    ax.fill(rim[:, 0], rim[:, 1], color="#f4d6d2", zorder=0)
+    ax.plot(rim[:, 0], rim[:, 1], color=CUT, linewidth=1.2, label="plate outline (cut)")
+    outer, inner = (np.vstack((p, p[:1])) for p in (walls.outer_points, walls.inner_points))
+    ax.fill(outer[:, 0], outer[:, 1], color="#d9d9d9", zorder=0)
+    ax.fill(inner[:, 0], inner[:, 1], color="#f4d6d2", zorder=0)
+    ax.plot(outer[:, 0], outer[:, 1], color=POCKET, linewidth=1.0,
+            label=f"groove walls ({walls.depth:.4g} mm deep)")
+    ax.plot(inner[:, 0], inner[:, 1], color=POCKET, linewidth=1.0)
+    if walls.outer_folds.any():
+        xy = walls.outer_dense.xy[walls.outer_folds]
+        ax.plot(xy[:, 0], xy[:, 1], ".", color=BAD, markersize=2, label="outer wall folds")
+    changes = walls.contact.changes
+    if not changes.size:
+        return
+    pitch = geom.cam.pitch(changes, analysis.program.evaluate(changes))
+    across = 1.4 * walls.radius * perp(pitch.tangent)
+    for k, (centre, step) in enumerate(zip(pitch.xy, across, strict=True)):
+        ends = np.array([centre - step, centre + step])
+        ax.plot(ends[:, 0], ends[:, 1], color=CHANGE, linewidth=1.6,
+                label="contact changes walls" if k == 0 else None)
+        label = (f"{walls.contact.changes_deg[k]:.4g}°: onto the "
+                 f"{WALL_NAMES[int(walls.contact.onto[k])]} wall")
+        tip = centre - 2.0 * step * np.sign(float(np.dot(step, centre)) or 1.0)  # toward the centre
+        ax.annotate(label, tuple(tip), fontsize=7, color=CHANGE, ha="center", va="center")
+
+
+def mark_failures(ax: Any, analysis: Analysis, geom: Any) -> None:
+    """Dots on the profile of *geom* (a disc or linear cam's geometry) where the pressure angle
+    is over the limit and where the envelope is undercut."""
+    dense = geom.dense
+    steep = np.abs(dense.pressure_angle) > analysis.design.pressure_angle_limit
+    if steep.any():
+        xy = dense.working.xy[steep]
+        ax.plot(xy[:, 0], xy[:, 1], ".", color=WARN, markersize=2,
+                label="pressure angle over the limit")
+    if geom.undercut:
+        cut = geom.working.xy[geom.cut] if geom.cut.any() else dense.working.xy[geom.folds]
+        ax.plot(cut[:, 0], cut[:, 1], ".", color=BAD, markersize=2, label="undercut")
 
 
 def _draw_follower(ax: Any, analysis: Analysis) -> None:
@@ -266,6 +328,40 @@ def _draw_follower(ax: Any, analysis: Analysis) -> None:
         ax.plot([trace[0], trace[0]], [trace[1], trace[1] + 1.5 * geom.cam.base_radius * 0.5],
                 color=FOLLOWER, linewidth=1.5)
     ax.plot([trace[0]], [trace[1]], ".", color=FOLLOWER)
+
+
+def _draw_partner(ax: Any, analysis: Analysis) -> None:
+    """What holds the follower on the other side, at θ = 0: a conjugate pair's cam b (turned
+    into the frame it is made in) with its roller, or a yoke's other face or roller."""
+    partner, geom = analysis.partner, analysis.geometry
+    if partner is None or geom is None:
+        return
+    cam = geom.cam
+    fol = cam.follower
+    trace = cam.trace(analysis.program.evaluate(np.zeros(1)))[0][0]
+    other = trace - np.array([0.0, partner.spacing])
+    if partner.geometry is not None and partner.program is not None:
+        from camfab.geometry.conjugate import half_turned, mirrored
+
+        cam_b = partner.geometry.cam
+        other = cam_b.trace(partner.program.evaluate(np.zeros(1)))[0][0]
+        move = mirrored if partner.mirror else half_turned
+        other = move(other)
+        ring = move(partner.geometry.outline_points())
+        ring = np.vstack((ring, ring[:1]))
+        ax.plot(ring[:, 0], ring[:, 1], color=CUT, linewidth=1.0, linestyle="--",
+                label="cam b (behind cam a)")
+    if fol.flat:
+        half = 0.6 * cam.base_radius
+        ax.plot([other[0] - half, other[0] + half], [other[1], other[1]], color=FOLLOWER,
+                linewidth=2.0, label="the yoke's other face")
+        return
+    angle = np.linspace(0, 2 * math.pi, 181)
+    ax.plot(other[0] + fol.radius * np.cos(angle), other[1] + fol.radius * np.sin(angle),
+            color=FOLLOWER, linewidth=1.5, linestyle="--", label="second roller")
+    joint = cam.pivot if fol.oscillating else trace
+    ax.plot([other[0], joint[0]], [other[1], joint[1]], color=FOLLOWER, linewidth=0.8,
+            linestyle=":")
 
 
 def _drum_drawing(analysis: Analysis) -> str:

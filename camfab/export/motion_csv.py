@@ -4,8 +4,10 @@ Rows run from 0 to 360° − step. Where a value steps exactly at a row, the row
 after the step. The pressure angle is signed (counter-clockwise from the follower's direction of
 motion to the cam's normal); radii of curvature are signed, convex positive, and empty where the
 curve is straight. A drum cam gives the pressure angle at the groove's floor and the radius of
-curvature of its pitch curve developed at the mean radius. Cam types whose geometry is not
-computed leave these columns empty.
+curvature of its pitch curve developed at the mean radius. A linear cam adds ``cam_travel_mm``
+(the plate's travel, a stroke being 360° of cam angle) after the cam angle; a conjugate pair
+adds cam b's pressure angle and radii (``..._b_...``). Cam types whose geometry is not computed
+leave these columns empty.
 """
 
 from __future__ import annotations
@@ -31,6 +33,10 @@ def motion_table(analysis: Analysis) -> tuple[list[str], np.ndarray]:
     omega = design.cam.omega
     columns = ["cam_angle_deg", units.displacement_column]
     values = [np.degrees(theta), np.degrees(s[0]) if units.oscillating else s[0]]
+    linear = analysis.linear
+    if linear is not None:  # a linear cam: the travel of the plate (a stroke is 360°)
+        columns.insert(1, "cam_travel_mm")
+        values.insert(1, linear.cam.travel(theta))
     if omega is not None:
         for order in (1, 2, 3):
             columns.append(units.key(order))
@@ -42,11 +48,22 @@ def motion_table(analysis: Analysis) -> tuple[list[str], np.ndarray]:
         d = dense.drum
         values += [np.degrees(d.pressure_angle(s[1], d.root)),
                    d.developed_radius(s[1], s[2], d.pitch), np.full(count, np.nan)]
+    elif linear is not None:
+        x = linear.cam.travel(theta)
+        values += [np.degrees(linear.cam.pressure_angle(s)), linear.cam.pitch(x, s).radius,
+                   linear.cam.working(x, s).radius]
     elif geom is None:
         values += [np.full(count, np.nan)] * 3
     else:
         values += [np.degrees(geom.cam.pressure_angle(theta, s)),
                    geom.cam.pitch(theta, s).radius, geom.cam.working(theta, s).radius]
+    partner = analysis.partner
+    if partner is not None and partner.geometry is not None and partner.program is not None:
+        cam_b, s_b = partner.geometry.cam, partner.program.evaluate(theta)
+        columns += ["pressure_angle_b_deg", "pitch_b_radius_of_curvature_mm",
+                    "profile_b_radius_of_curvature_mm"]
+        values += [np.degrees(cam_b.pressure_angle(theta, s_b)), cam_b.pitch(theta, s_b).radius,
+                   cam_b.working(theta, s_b).radius]
     return columns, np.column_stack(values)
 
 

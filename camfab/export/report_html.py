@@ -14,6 +14,7 @@ from camfab import __version__
 from camfab.analysis.findings import count
 
 if TYPE_CHECKING:
+    from camfab.design import Design
     from camfab.pipeline import Analysis
 
 
@@ -83,6 +84,36 @@ def _verification(report: dict[str, Any]) -> list[tuple[str, str]]:
     return rows
 
 
+def _contact_changes(report: dict[str, Any]) -> dict[str, Any] | None:
+    """Where a positive-drive cam's follower passes from one side to the other: a groove's
+    walls, a conjugate pair's cams, a yoke's faces or rollers (None for other cams)."""
+    geometry = report["geometry"]
+    if "wall_changes" in geometry:
+        return {"title": "Groove walls: where contact changes walls",
+                "intro": "The inner wall pushes the follower away from the cam centre where its "
+                         "acceleration is positive, the outer wall pulls it back where it is "
+                         "negative. At these cam angles the acceleration changes sign: contact "
+                         "crosses the clearance to the other wall, and the roller then rolls on "
+                         "that wall and reverses its spin.",
+                "still": "The follower never accelerates: no wall carries it.",
+                "rows": [[num(c["cam_angle_deg"]), f"{c['from']} wall", f"{c['onto']} wall"]
+                         for c in geometry["wall_changes"]]}
+    if "load_changes" in geometry:
+        return {"title": "Where the load passes from one side to the other",
+                "intro": "The follower is pushed away from the cam centre where its acceleration "
+                         "is positive and pulled back where it is negative; at these cam angles "
+                         "the other side takes the load (any play between the two shows here).",
+                "still": "The follower never accelerates: neither side carries it.",
+                "rows": [[num(c["cam_angle_deg"]), c["from"], c["onto"]]
+                         for c in geometry["load_changes"]]}
+    return None
+
+
+def _motion_of(design: Design) -> str:
+    """How the cam moves: its sense of rotation, or a linear cam's direction of travel."""
+    return "moving toward −X" if design.cam.linear else design.cam.rotation
+
+
 def render_report_html(analysis: Analysis) -> bytes:
     """The report page as UTF-8 bytes."""
     import jinja2
@@ -104,14 +135,16 @@ def render_report_html(analysis: Analysis) -> bytes:
         description=design.description or f"{kind}, {follower}",
         exit_code=analysis.exit_code,
         verdict="PASS" if analysis.exit_code == 0 else "FAIL",
-        summary=f"{kind}, {design.cam.rotation}, {follower}; {errors} error(s), "
+        summary=f"{kind}, {_motion_of(design)}, {follower}; {errors} error(s), "
                 f"{warnings} warning(s)",
         findings=_findings(analysis),
         drawing=figures.cam_drawing(analysis),
         drawing_title=("The groove developed" if design.cam.type == "cylindrical"
+                       else "The plate at travel 0" if design.cam.linear
                        else "The cam at θ = 0"),
         numbers=_numbers(report), segment_head=head, segment_rows=rows,
         key_head=key_head, key_rows=key_rows,
+        changes=_contact_changes(report),
         diagrams=figures.diagrams(analysis),
         dynamics=figures.has_dynamics(analysis),
         verification=_verification(report))

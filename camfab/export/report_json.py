@@ -58,6 +58,10 @@ def _geometry(analysis: Analysis) -> dict[str, Any]:
     cam, fol = analysis.design.cam, analysis.design.follower
     if cam.type == "cylindrical":
         return _drum_geometry(analysis)
+    if analysis.linear is not None:
+        from camfab.analysis.linear_checks import linear_report_geometry
+
+        return linear_report_geometry(analysis)
     base = cam.base_radius
     geom, numbers = analysis.geometry, analysis.numbers
     if geom is None or not isinstance(numbers, CamNumbers) or base is None:
@@ -99,6 +103,9 @@ def _geometry(analysis: Analysis) -> dict[str, Any]:
             "top_dwell_deg": math.degrees(shape.top_dwell),
             "flank_end_angle_deg": math.degrees(shape.flank_end_angle),
         })
+    for extra in (analysis.groove, analysis.partner):
+        if extra is not None:
+            out.update(extra.report_geometry())
     return out
 
 
@@ -124,9 +131,16 @@ def _key_points(analysis: Analysis) -> dict[str, Any]:
 def _dynamics(analysis: Analysis) -> dict[str, Any]:
     dyn = analysis.dynamics
     if dyn is None:
+        note = "no follower mass (or neither spring nor speed) in the design"
+        if analysis.groove is not None:
+            note = ("a groove cam drives its follower both ways without a spring: the forces "
+                    "on its walls are in geometry (max_inner_wall_force_N, ...)")
+        elif analysis.partner is not None:
+            note = (f"a {analysis.design.cam.type} cam drives its follower both ways without a "
+                    "spring: the forces on either side are in geometry (load_changes, "
+                    "max_..._force_N)")
         return {"jump_speed_rpm": None, "min_contact_force_N": None, "required_preload_N": None,
-                "required_spring_force_N": None,
-                "note": "no follower mass (or neither spring nor speed) in the design"}
+                "required_spring_force_N": None, "note": note}
     return {
         "jump_speed_rpm": dyn.jump_speed_rpm,
         "jump_speed_rad_s": dyn.jump_speed_rad_s,

@@ -55,6 +55,10 @@ def _binary_stl(solid: Any) -> bytes:
     return data
 
 
+#: The binary writer, for the other exporters of solids (a linear cam's plate).
+binary_stl = _binary_stl
+
+
 #: trimesh (which imports much of scipy) is imported before manifold3d computes anything: after
 #: a boolean, manifold's worker threads keep a core busy for a while, and the same imports were
 #: measured 0.15 s slower on two cores.
@@ -100,6 +104,22 @@ def render_stl(analysis: Analysis, plate: Plate) -> bytes | None:
     contours = [geom.outline_points(), *hole_points(plate.holes, geom.tolerance)]
     section = manifold3d.CrossSection(contours, manifold3d.FillRule.EvenOdd)
     return _binary_stl(manifold3d.Manifold.extrude(section, cam.thickness))
+
+
+def render_stack_stl(outlines: list[Array], holes: Contours, tolerance: float,
+                     thickness: float) -> bytes:
+    """The binary STL of plates stacked along Z on one bore (mm): plate i is the outline
+    *outlines[i]* with the *holes*, from z = i·thickness to (i + 1)·thickness, the plates joined
+    face to face into one solid (a conjugate pair printed as one part)."""
+    import manifold3d
+    import trimesh  # noqa: F401  (before manifold3d computes: see above)
+
+    bores = hole_points(holes, tolerance)
+    plates = [manifold3d.Manifold.extrude(
+                  manifold3d.CrossSection([outline, *bores], manifold3d.FillRule.EvenOdd),
+                  thickness).translate((0.0, 0.0, i * thickness))
+              for i, outline in enumerate(outlines)]
+    return _binary_stl(manifold3d.Manifold.batch_boolean(plates, manifold3d.OpType.Add))
 
 
 #: A face with less area than this (mm²) counts as degenerate: far below any facet a plate of

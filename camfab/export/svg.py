@@ -48,14 +48,17 @@ def path_data(profile: Profile, scale: float) -> str:
     return " ".join(parts)
 
 
-def render_svg(analysis: Analysis, contours: Contours) -> bytes:
+def render_svg(analysis: Analysis, contours: Contours, pocket: Contours | None = None) -> bytes:
     """The SVG file as bytes: *contours* (mm; a disc's CUT contours, or a drum's developed
-    groove) at true size, outlines only."""
+    groove) at true size, outlines only; a groove cam's *pocket* walls (to mill, not to cut
+    through) in blue in a group of their own, ``id="POCKET"``."""
     design = analysis.design
     scale = 1.0 / design.mm_per_unit
     shapes = [f'<path d="{path_data(profile, scale)}"/>' for profile in contours.profiles]
     shapes += [f'<circle cx="0" cy="0" r="{_num(radius * scale)}"/>'
                for radius in contours.circles]
+    walls = [] if pocket is None else [f'<path d="{path_data(profile, scale)}"/>'
+                                       for profile in pocket.profiles]
     # the contours' extent; the margin also covers the arcs' slight bulge beyond their ends
     points = np.vstack([p.vertices for p in contours.profiles]
                        + [np.array([[-r, -r], [r, r]]) for r in contours.circles]) * scale
@@ -67,7 +70,11 @@ def render_svg(analysis: Analysis, contours: Contours) -> bytes:
     head = (f'<svg xmlns="http://www.w3.org/2000/svg" width="{_num(width)}{unit}" '
             f'height="{_num(height)}{unit}" viewBox="{_num(low[0] - pad)} {_num(-high[1] - pad)} '
             f'{_num(width)} {_num(height)}">')
-    title = f"<title>{escape(design.name)}: CUT contours, {unit}</title>"
+    what = "CUT contours" + (" (red) and the groove's POCKET walls (blue)" if walls else "")
+    title = f"<title>{escape(design.name)}: {what}, {unit}</title>"
     body = (f'<g fill="none" stroke="#d00000" stroke-width="{stroke}">'
             + "".join(shapes) + "</g>")
+    if walls:
+        body += (f'<g id="POCKET" fill="none" stroke="#0050d0" stroke-width="{stroke}">'
+                 + "".join(walls) + "</g>")
     return (head + title + body + "</svg>\n").encode("utf-8")

@@ -7,14 +7,14 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import partial
 from typing import TYPE_CHECKING, Literal
 
 import numpy as np
 
 from camfab.arrays import Array, Index, Mask
-from camfab.geometry.curves import CurvePoints, signed_angle
+from camfab.geometry.curves import CurvePoints, offset_inward, signed_angle
 from camfab.geometry.disc import DiscCam, FaceLines
 from camfab.geometry.follower import FollowerGeometry
 from camfab.geometry.profile import MERGE_DISTANCE, Profile
@@ -146,16 +146,20 @@ def dense_curves(cam: DiscCam, program: MotionProgram, step: float = ANALYSIS_ST
                        cam.pressure_angle(theta, motion, lines), lines, contact)
 
 
-def sample_closed(cam: DiscCam, program: MotionProgram, curve: Literal["pitch", "working"],
+def sample_closed(cam: DiscCam, program: MotionProgram,
+                  curve: Literal["pitch", "working", "outer"],
                   tolerance: float | Array) -> Sampled:
     """The closed pitch or working curve sampled within *tolerance* (mm; one value, or one per
-    segment), segment by segment.
+    segment), segment by segment; ``outer`` is the pitch curve offset outward by the follower's
+    radius (a groove cam's outer wall).
 
     Where a roller's pitch curve has a corner (a velocity step at a joint), the working curve is
     joined by the arc the roller rolls over the corner; a flat face's contact points are joined
     by the straight edge between them.
     """
-    evaluator = cam.pitch if curve == "pitch" else cam.working
+    evaluators: dict[str, Callable[[Array, Array], CurvePoints]] = {
+        "pitch": cam.pitch, "working": cam.working, "outer": partial(outer_wall, cam)}
+    evaluator = evaluators[curve]
     thetas, points = [], []
     segments = program.segments
     tolerances = np.broadcast_to(np.asarray(tolerance, dtype=np.float64), (len(segments),))
@@ -165,7 +169,7 @@ def sample_closed(cam: DiscCam, program: MotionProgram, curve: Literal["pitch", 
         thetas.append(seg.start + t)
         points.append(xy)
         nxt = segments[(i + 1) % len(segments)]
-        if curve == "working" and cam.follower.radius > 0.0:
+        if curve != "pitch" and cam.follower.radius > 0.0:
             joint = np.array([nxt.start])
             m_right = nxt.evaluate_local(np.zeros(1))
             start = xy[-1]
@@ -181,6 +185,13 @@ def sample_closed(cam: DiscCam, program: MotionProgram, curve: Literal["pitch", 
     step = np.hypot(*(np.roll(xy, -1, axis=0) - xy).T)
     keep = step > MERGE_DISTANCE
     return Sampled(theta[keep], xy[keep])
+
+
+def outer_wall(cam: DiscCam, theta: Array, m: Array) -> CurvePoints:
+    """The pitch curve moved the follower's radius outward along its normal: the outer wall of
+    a groove (its radius of curvature ρ_p + radius, running backwards where a concave ρ_p is
+    smaller in size than the radius)."""
+    return offset_inward(cam.pitch(theta, m), cam.sigma, -cam.follower.radius)
 
 
 def _on_segment(evaluator: Callable[[Array, Array], CurvePoints], seg: ProgramSegment,
@@ -216,10 +227,14 @@ def lift_check(cam: DiscCam, program: MotionProgram, profile: Profile,
 
 
 def disc_cam(design: Design) -> DiscCam:
-    """The exact evaluators of a disc-cam design."""
+    """The exact evaluators of a disc-cam design; a groove cam's follower radius is the roller's
+    plus half the groove clearance, so the working curve is the groove's inner wall."""
     base = design.cam.base_radius
     assert base is not None, "disc cams have a base radius (design rules)"
-    return DiscCam(FollowerGeometry.from_design(design), base, design.cam.sigma)
+    follower = FollowerGeometry.from_design(design)
+    if design.cam.type == "groove":  # the inner wall: the roller plus half the clearance
+        follower = replace(follower, radius=follower.radius + design.follower.groove_clearance / 2)
+    return DiscCam(follower, base, design.cam.sigma)
 
 
 #: The smallest factor by which a steep pressure angle may shrink the sampling tolerance.
@@ -248,11 +263,18 @@ def segment_tolerances(cam: DiscCam, dense: DenseCurves, tolerance: float,
 
 def disc_geometry(design: Design) -> DiscGeometry:
     """Build the geometry of a disc-cam design."""
-    cam = disc_cam(design)
-    program = design.program
+    exact = design.shape.profile(design.cam.sigma) if design.cam.shaped else None
+    return plate_geometry(disc_cam(design), design.program, design.manufacturing.tolerance,
+                          exact)
+
+
+def plate_geometry(cam: DiscCam, program: MotionProgram, tolerance: float,
+                   exact: Profile | None = None) -> DiscGeometry:
+    """The geometry of the plate cam *cam* driving its follower through *program*, its curves
+    sampled within *tolerance* (mm); *exact* is the cam's exact outline when it is drawn from
+    its shape (the follower run over it checks the motion)."""
     dense = dense_curves(cam, program)
-    tolerances = segment_tolerances(cam, dense, design.manufacturing.tolerance,
-                                    len(program.segments))
+    tolerances = segment_tolerances(cam, dense, tolerance, len(program.segments))
     tolerance = float(tolerances.min())
     pitch = sample_closed(cam, program, "pitch", tolerances)
     working = sample_closed(cam, program, "working", tolerances)
@@ -263,9 +285,6 @@ def disc_geometry(design: Design) -> DiscGeometry:
     if folded.any() or crossing:
         xy = trim_loops(working.xy, _keep_test(cam, pitch, dense, tolerance))
         cut = cut_away(working.xy, xy, 2 * tolerance)
-    profile = Profile.from_points(xy).ccw()
-    exact = design.cam.shaped
-    if exact:  # the outline it is drawn from; the follower run over it checks the motion
-        profile = design.shape.profile(cam.sigma)
+    profile = Profile.from_points(xy).ccw() if exact is None else exact
     return DiscGeometry(cam, tolerance, dense, pitch, working, profile, folded, crossing,
-                        cut, lift_check(cam, program, profile), exact)
+                        cut, lift_check(cam, program, profile), exact is not None)

@@ -46,7 +46,7 @@ _COARSE_THINNING = 8
 
 
 @dataclass(frozen=True)
-class _Circles:
+class CirclePieces:
     """Circle pieces in the cam frame: centre, radius, start angle and signed sweep (rad)."""
 
     centre: Array
@@ -86,15 +86,17 @@ def _corners(profile: Profile) -> tuple[Index, Array, Array]:
 
 
 @dataclass(frozen=True)
-class _Offset:
-    """What a circle of radius r about the trace point touches: the profile offset by r."""
+class OffsetPieces:
+    """What a circle of radius r about the trace point touches: the profile (counter-clockwise)
+    offset by r — its lines as segments from ``q1`` to ``q2``, its arcs grown or shrunk, and caps
+    of radius r at its convex corners as ``circles``."""
 
-    circles: _Circles
+    circles: CirclePieces
     q1: Array
     q2: Array
 
     @classmethod
-    def of(cls, profile: Profile, r: float) -> _Offset:
+    def of(cls, profile: Profile, r: float) -> OffsetPieces:
         v = profile.vertices
         line = profile.bulges == 0.0
         a, b = v[line], np.roll(v, -1, axis=0)[line]
@@ -111,7 +113,7 @@ class _Offset:
             radii.append(np.full(index.size, r))
             starts.append(arriving)
             sweeps.append(cone)
-        circles = _Circles(np.concatenate(centres), np.concatenate(radii),
+        circles = CirclePieces(np.concatenate(centres), np.concatenate(radii),
                            np.concatenate(starts), np.concatenate(sweeps))
         return cls(circles, a + r * normal, b + r * normal)
 
@@ -193,9 +195,9 @@ def simulate(profile: Profile, follower: FollowerGeometry, theta: Array, sigma: 
     elif follower.flat:
         _sliding_face(prof, grid)
     elif follower.oscillating:
-        _swinging_circle(_Offset.of(prof, follower.radius), follower, grid)
+        _swinging_circle(OffsetPieces.of(prof, follower.radius), follower, grid)
     else:
-        _sliding_circle(_Offset.of(prof, follower.radius), follower.offset, grid)
+        _sliding_circle(OffsetPieces.of(prof, follower.radius), follower.offset, grid)
     return np.where(np.isfinite(grid.best), grid.best, np.nan)
 
 
@@ -213,7 +215,7 @@ def _line_window(centre: Array, reach: Array, offset: float) -> tuple[Array, Arr
     return np.where(full, 0.0, lo - slack), np.where(full, TWO_PI, hi + slack)
 
 
-def _sliding_circle(off: _Offset, e: float, grid: _Grid) -> None:
+def _sliding_circle(off: OffsetPieces, e: float, grid: _Grid) -> None:
     circles = off.circles
     if len(circles):
         centre, reach = circles.bounds()
@@ -258,7 +260,7 @@ def _arm_angle(points: Array, fol: FollowerGeometry) -> Array:
     return np.where(points[:, 1] >= 0.0, psi, -np.inf)
 
 
-def _swinging_circle(off: _Offset, fol: FollowerGeometry, grid: _Grid) -> None:
+def _swinging_circle(off: OffsetPieces, fol: FollowerGeometry, grid: _Grid) -> None:
     pivot = np.array([fol.pivot_sign * fol.pivot_distance, 0.0])
     arm, circles = fol.arm_length, off.circles
     if len(circles):
@@ -296,12 +298,12 @@ def _swinging_circle(off: _Offset, fol: FollowerGeometry, grid: _Grid) -> None:
 
 # -- flat faces: the support of the cam in the face's direction --------------------------------
 
-def _support_pieces(profile: Profile) -> tuple[Array, Array, Array, _Circles]:
+def _support_pieces(profile: Profile) -> tuple[Array, Array, Array, CirclePieces]:
     """Corners (point, first outward normal angle, cone) and convex arcs: what a face can touch."""
     index, arriving, cone = _corners(profile)
     arcs = profile.arcs()
     convex = arcs.sweep > 0
-    circles = _Circles(arcs.centre[convex], arcs.radius[convex], arcs.start_angle[convex],
+    circles = CirclePieces(arcs.centre[convex], arcs.radius[convex], arcs.start_angle[convex],
                        arcs.sweep[convex])
     return profile.vertices[index], arriving, cone, circles
 
@@ -352,7 +354,7 @@ def _swinging_face(profile: Profile, fol: FollowerGeometry, grid: _Grid) -> None
                 low - circles.start - circles.sweep, high - circles.start)
 
 
-def _touch_face(grid: _Grid, corners: Array, circles: _Circles, fol: FollowerGeometry,
+def _touch_face(grid: _Grid, corners: Array, circles: CirclePieces, fol: FollowerGeometry,
                 pivot: Array, corner_lo: Array, corner_hi: Array, arc_lo: Array,
                 arc_hi: Array) -> None:
     """The swinging face against corners and convex arcs, within the windows of σθ given."""

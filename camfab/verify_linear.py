@@ -1,0 +1,91 @@
+"""A linear cam's files, made and read back: the DXF's CUT outline is read as a reader of the
+file would (the kerf taken back off), the follower run over it along the whole stroke and its
+height compared with base_height + s; the outline's distance from the exact working curve is
+measured; the STL is read back and checked closed, outward and of the plate's volume.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from camfab.verification import Verification, named
+
+if TYPE_CHECKING:
+    from camfab.export.stl import StlCheck
+    from camfab.geometry.linear import LinearGeometry
+    from camfab.geometry.profile import Profile
+    from camfab.pipeline import Analysis
+
+
+def linear_contours(analysis: Analysis) -> tuple[Profile, Profile, Profile | None]:
+    """What the DXF draws (mm): the CUT contour (the plate, or a laser beam's path kerf/2 outside
+    it), the pitch curve as an open chain of lines and arcs, and a milling cutter's centre path
+    (None without ``cutter_radius``)."""
+    from camfab.geometry.linear import fit_open, offset_plate
+
+    design, geom = analysis.design, analysis.linear
+    assert geom is not None
+    tolerance = geom.tolerance
+    kerf = design.manufacturing.kerf
+    cut = geom.outline if kerf <= 0.0 else offset_plate(geom.chain, kerf / 2.0, tolerance)
+    cutter = design.manufacturing.cutter_radius
+    toolpath = None if cutter <= 0.0 else offset_plate(geom.chain, cutter, tolerance)
+    pitch = fit_open(geom.pitch.xy, geom.pitch_corners, tolerance)
+    return cut, pitch, toolpath
+
+
+def exact_working(geom: LinearGeometry, distance: float = 0.0) -> np.ndarray:
+    """The exact working curve over the stroke (mm) on the analysis grid, moved *distance* (mm)
+    out of the plate along its normal (a laser beam's path for kerf/2); the raw envelope's
+    folds left out."""
+    working = geom.dense.working
+    xy = working.xy[~geom.folds]
+    if distance == 0.0:
+        return xy
+    normal = np.stack((-working.tangent[:, 1], working.tangent[:, 0]), axis=-1)[~geom.folds]
+    return xy + distance * normal
+
+
+def verify_linear(analysis: Analysis,
+                  requested: tuple[str, ...]) -> tuple[Verification, dict[str, dict[str, bytes]]]:
+    """Make the DXF (always: it is what is verified), and the SVG and STL when *requested*, read
+    them back and run the follower over the CUT outline."""
+    from camfab.export.dxf import read_cut_outline
+    from camfab.export.linear_files import render_linear_dxf, render_linear_stl
+    from camfab.geometry.linear import lift_check
+    from camfab.geometry.plate import Contours, inside_kerf
+
+    design, geom = analysis.design, analysis.linear
+    assert geom is not None
+    cut, pitch, toolpath = linear_contours(analysis)
+    files: dict[str, bytes] = {}
+    stl_check: StlCheck | None = None
+    if "stl" in requested:
+        from camfab.export.stl import check_stl
+
+        made = render_linear_stl(analysis)
+        if made is not None:
+            files["stl"], volume, allowance = made
+            stl_check = check_stl(files["stl"], volume, allowance)
+    dxf = render_linear_dxf(analysis, cut, pitch, toolpath)
+    files["dxf"] = dxf
+    written = read_cut_outline(dxf, design.mm_per_unit)
+    part = written
+    source = f"CUT outline read back from {design.name}.dxf"
+    kerf = design.manufacturing.kerf
+    if kerf > 0.0:
+        part = inside_kerf(written, kerf, geom.tolerance)
+        source += f", less the kerf/2 of {kerf / 2:.6g} mm the beam removes"
+    lift = lift_check(geom.cam, analysis.program, part)
+    deviation = None
+    if not geom.undercut:
+        deviation = float(written.distance(exact_working(geom, kerf / 2.0)).max())
+    if "svg" in requested:
+        from camfab.export.svg import render_svg
+
+        files["svg"] = render_svg(analysis, Contours((cut,)))
+    check = Verification(lift, source, len(written.vertices), deviation, stl_check,
+                         exempt=geom.undercut)
+    return check, named(design.name, files)
