@@ -10,13 +10,13 @@ from __future__ import annotations
 import math
 import os
 import sys
-from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import click
 
 from camfab import __version__
+from camfab.batch import PROGRESS_FROM, Outcome
 
 if TYPE_CHECKING:
     from camfab.analysis.inspection import Inspection
@@ -26,15 +26,6 @@ if TYPE_CHECKING:
 STARTER_KINDS = ("disc-roller", "disc-knife", "disc-flat", "disc-mushroom", "oscillating",
                  "oscillating-flat", "cylindrical", "circular-arc", "tangent", "groove",
                  "conjugate", "constant-breadth", "linear")
-
-
-@dataclass
-class Outcome:
-    """What one design's run printed and its exit status."""
-
-    code: int
-    out: list[str] = field(default_factory=list)
-    err: list[str] = field(default_factory=list)
 
 
 @click.group(context_settings={"help_option_names": ["-h", "--help"]})
@@ -49,10 +40,28 @@ def main() -> None:
               help="Write the files into DIR instead of exports/<name>/.", metavar="DIR")
 @click.option("-j", "--jobs", type=click.IntRange(1, 256), default=1, show_default=True,
               help="Build this many designs in parallel processes.")
-def build(designs: tuple[str, ...], out_dir: Path | None, jobs: int) -> None:
-    """Build DESIGN files: write the report, motion table and manufacturing files."""
-    outcomes = _run_all(designs, out_dir, jobs, _build_one)
-    sys.exit(_finish(outcomes))
+@click.option("--progress/--no-progress", default=None,
+              help=f"Show a progress bar on stderr (default: for {PROGRESS_FROM} or more designs "
+                   "when stderr is a terminal).")
+def build(designs: tuple[str, ...], out_dir: Path | None, jobs: int,
+          progress: bool | None) -> None:
+    """Build DESIGN files: write the report, motion table and manufacturing files. With several
+    designs, a failure of one does not stop the others; a summary table ends the output and the
+    exit status is the worst of them."""
+    import time
+
+    from camfab.batch import run_all, summary
+
+    if progress is None:
+        progress = len(designs) >= PROGRESS_FROM and sys.stderr.isatty()
+    start = time.perf_counter()
+    outcomes = run_all(designs, out_dir, jobs, _build_one, progress)
+    code = _finish(outcomes)
+    if len(designs) > 1:
+        click.echo("")
+        for line in summary(outcomes, time.perf_counter() - start):
+            click.echo(line)
+    sys.exit(code)
 
 
 @main.command()
@@ -180,15 +189,6 @@ def _lift_text(ins: Inspection) -> str:
     return f"{float(np.max(ins.lift)):.4g} mm"
 
 
-def _run_all(designs: tuple[str, ...], out_dir: Path | None, jobs: int, task) -> list[Outcome]:
-    if jobs == 1 or len(designs) == 1:
-        return [task(path, out_dir) for path in designs]
-    from concurrent.futures import ProcessPoolExecutor
-
-    with ProcessPoolExecutor(max_workers=min(jobs, len(designs))) as pool:
-        return list(pool.map(task, designs, [out_dir] * len(designs)))
-
-
 def _finish(outcomes: list[Outcome]) -> int:
     for outcome in outcomes:
         for line in outcome.out:
@@ -225,7 +225,12 @@ def _build_one(path: str, out_dir: Path | None) -> Outcome:
             lines.extend(f"  not produced: {item}" for item in result.not_produced)
         lines += [f"  {_mark(f)} {f.id}: {f.message}" for f in result.analysis.findings
                   if not f.ok]
-        return Outcome(result.exit_code, out=lines)
+        from camfab.analysis.findings import count
+
+        findings = result.analysis.findings
+        return Outcome(result.exit_code, out=lines, name=result.analysis.design.name,
+                       errors=count(findings, "error"), warnings=count(findings, "warning"),
+                       files=len(result.written))
 
     return _guarded(path, work)
 

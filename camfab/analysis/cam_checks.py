@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from camfab.analysis.findings import Finding
+from camfab.analysis.findings import Finding, listed
 from camfab.analysis.kinematics import degrees
 from camfab.analysis.ranges import Range, merge, ranges_deg
 from camfab.arrays import Array, Index, Mask
@@ -116,8 +116,8 @@ def fmt(value: float) -> str:
 def where(ranges: tuple[Range, ...]) -> str:
     if not ranges:
         return "a point too small to resolve"
-    return ", ".join(f"{fmt(a)}°" if fmt(a) == fmt(b) else f"{fmt(a)}°–{fmt(b)}°"
-                     for a, b in ranges)
+    return listed([f"{fmt(a)}°" if fmt(a) == fmt(b) else f"{fmt(a)}°–{fmt(b)}°"
+                   for a, b in ranges])
 
 
 def pressure_angle_finding(design: Design, geom: DiscGeometry, numbers: CamNumbers) -> Finding:

@@ -14,6 +14,17 @@ from typing import Any, Literal
 
 Severity = Literal["error", "warning"]
 
+#: A finding's message names at most this many places; its ``ranges_deg`` holds them all.
+MOST_PLACES = 8
+
+
+def listed(places: Sequence[str], most: int = MOST_PLACES) -> str:
+    """*places* joined for a message, the list cut after *most* (a program of a thousand
+    segments has a thousand joints, which no one reads in a sentence)."""
+    if len(places) <= most:
+        return ", ".join(places)
+    return ", ".join(places[:most]) + f" and {len(places) - most} more (all in the report)"
+
 
 @dataclass(frozen=True)
 class Finding:

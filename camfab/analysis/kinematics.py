@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from camfab.analysis.findings import Finding, Severity
+from camfab.analysis.findings import Finding, Severity, listed
 from camfab.motion.continuity import ORDER_NAMES, Step, joint_steps, unbounded_orders
 from camfab.motion.program import MotionProgram
 
@@ -131,7 +131,7 @@ def continuity_findings(program: MotionProgram, units: MotionUnits,
             return units.to_si(order, value, omega) if omega is not None else value
 
         worst = max(mine, key=lambda s: s.size)
-        angles = ", ".join(f"{degrees(s.angle):.6g}°" for s in mine)
+        angles = listed([f"{degrees(s.angle):.6g}°" for s in mine])
         message = (f"{name} steps at {angles} (largest {scaled(worst.size):.4g} {unit} at "
                    f"{degrees(worst.angle):.6g}°): {_CONSEQUENCE[order]}")
         findings.append(Finding(

@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from camfab.analysis.cam_checks import Extreme, curve_extremes, fmt, where
-from camfab.analysis.findings import Finding
+from camfab.analysis.findings import Finding, listed
 from camfab.analysis.ranges import Range, merge, ranges_deg
 from camfab.geometry.linear import LinearGeometry, linear_geometry
 
@@ -79,7 +79,7 @@ def where_travel(stroke: float, ranges: tuple[Range, ...]) -> str:
             parts.append(f"{fmt(a)}° (travel {fmt(mm_a)} mm)")
         else:
             parts.append(f"{fmt(a)}°–{fmt(b)}° (travel {fmt(mm_a)}–{fmt(mm_b)} mm)")
-    return ", ".join(parts)
+    return listed(parts)
 
 
 def _at(stroke: float, at_deg: float | None) -> str:

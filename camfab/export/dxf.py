@@ -92,6 +92,11 @@ def new_document(design: Any) -> Any:
 
 
 def dxf_bytes(doc: Any) -> bytes:
+    """The drawing as bytes, the same for the same drawing on every run: ezdxf lists the CLASS
+    of each entity type in use in the order of a set of names (which changes from run to run
+    with Python's string hashing), so they are registered first, in sorted order."""
+    for name in sorted(doc.entitydb.dxf_types_in_use()):
+        doc.classes.add_class(name)
     stream = io.StringIO()
     doc.write(stream)
     return _strip_volatile(stream.getvalue()).encode("utf-8")
@@ -205,23 +210,36 @@ def _strip_volatile(text: str) -> str:
 
 
 def read_cut_outline(data: bytes, mm_per_unit: float) -> Profile:
-    """The largest closed contour on layer CUT of a DXF (the cam outline), in mm: its lines,
-    arcs and polylines read by ezdxf and chained into loops by its edge miner, as a reader of
-    the file would. (Not ezdxf's streaming reader: ``iterdxf.single_pass_modelspace`` of ezdxf
-    1.4 drops the last entity of the section.)"""
+    """The largest closed contour on layer CUT of a DXF (the cam outline), in mm (see
+    :func:`layer_loops`)."""
     import ezdxf
+
+    loops = layer_loops(ezdxf.read(io.StringIO(data.decode("utf-8"))).modelspace(), "CUT",
+                        mm_per_unit)
+    if not loops:
+        raise ValueError("the DXF has no closed contour on layer CUT")
+    return loops[0]
+
+
+def layer_loops(msp: Any, layer: str, mm_per_unit: float) -> list[Profile]:
+    """The closed contours of the LINE, ARC and LWPOLYLINE entities on *layer* of a modelspace,
+    in mm, largest first, each counter-clockwise from its vertex of least x: read by ezdxf and
+    chained into loops by its edge miner, as a reader of the file would. (Not ezdxf's streaming
+    reader: ``iterdxf.single_pass_modelspace`` of ezdxf 1.4 drops the last entity of the
+    section.)"""
     from ezdxf import edgeminer, edgesmith
 
-    doc = ezdxf.read(io.StringIO(data.decode("utf-8")))
-    entities = doc.modelspace().query('LINE ARC LWPOLYLINE[layer=="CUT"]')
-    edges = list(edgesmith.edges_from_entities_2d(entities, gap_tol=READ_GAP))
-    best: Profile | None = None
+    entities = msp.query(f'LINE ARC LWPOLYLINE[layer=="{layer}"]')
+    # numbered 1, 2, … for this read: the miner keeps edges in sets hashed by their ids, which
+    # ezdxf draws from one counter for the whole process, so a later read of the same file
+    # would chain its loops in another order and direction (and round their joins otherwise)
+    edges = [edge._replace(id=number) for number, edge in enumerate(
+        edgesmith.edges_from_entities_2d(entities, gap_tol=READ_GAP), start=1)]
+    found: list[Profile] = []
+    if not edges:  # (the edge miner refuses an empty deposit)
+        return found
     for loop in edgeminer.find_all_loops(edgeminer.Deposit(edges, gap_tol=READ_GAP)):
         polyline = edgesmith.lwpolyline_from_chain(loop)
         points = np.array(list(polyline.get_points("xyb")), dtype=np.float64)
-        profile = Profile.from_points(points[:, :2] * mm_per_unit, points[:, 2])
-        if best is None or profile.area > best.area:
-            best = profile
-    if best is None:
-        raise ValueError("the DXF has no closed contour on layer CUT")
-    return best
+        found.append(Profile.from_points(points[:, :2] * mm_per_unit, points[:, 2]).canonical())
+    return sorted(found, key=lambda p: -p.area)

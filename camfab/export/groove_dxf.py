@@ -15,9 +15,7 @@ import io
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
-import numpy as np
-
-from camfab.export.dxf import READ_GAP, add_contour, add_contours, dxf_bytes, new_document
+from camfab.export.dxf import add_contour, add_contours, dxf_bytes, layer_loops, new_document
 from camfab.geometry.arcfit import fit_arcs
 from camfab.geometry.curves import perp
 from camfab.geometry.profile import Profile
@@ -128,22 +126,7 @@ def read_groove_dxf(data: bytes, mm_per_unit: float) -> GrooveDrawing:
     circles = sorted((float(c.dxf.radius) * mm_per_unit
                       for c in msp.query('CIRCLE[layer=="CUT"]')), reverse=True)
     notes = [str(t.dxf.text) for t in msp.query('TEXT[layer=="NOTE"]')]
-    return GrooveDrawing(_loops(msp, "POCKET", mm_per_unit), circles,
-                         _loops(msp, "CUT", mm_per_unit), notes)
+    return GrooveDrawing(layer_loops(msp, "POCKET", mm_per_unit), circles,
+                         layer_loops(msp, "CUT", mm_per_unit), notes)
 
 
-def _loops(msp: Any, layer: str, mm_per_unit: float) -> list[Profile]:
-    """The closed contours of LINE, ARC and LWPOLYLINE entities on *layer* (mm), largest
-    first."""
-    from ezdxf import edgeminer, edgesmith
-
-    entities = msp.query(f'LINE ARC LWPOLYLINE[layer=="{layer}"]')
-    edges = list(edgesmith.edges_from_entities_2d(entities, gap_tol=READ_GAP))
-    found: list[Profile] = []
-    if not edges:  # (the edge miner refuses an empty deposit)
-        return found
-    for loop in edgeminer.find_all_loops(edgeminer.Deposit(edges, gap_tol=READ_GAP)):
-        polyline = edgesmith.lwpolyline_from_chain(loop)
-        points = np.array(list(polyline.get_points("xyb")), dtype=np.float64)
-        found.append(Profile.from_points(points[:, :2] * mm_per_unit, points[:, 2]).ccw())
-    return sorted(found, key=lambda p: -p.area)

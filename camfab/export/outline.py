@@ -247,7 +247,9 @@ def _contours(name: str, entities: list[Any], mm_per_unit: float,
         elif len(closed) >= 2:
             _keep(found, closed, mm_per_unit, 1)
     gap = JOIN_GAP_MM / mm_per_unit
-    edges = list(edgesmith.edges_from_entities_2d(loose, gap_tol=gap))
+    # numbered for this read, as camfab.export.dxf.layer_loops does: the same loops every time
+    edges = [edge._replace(id=number) for number, edge in enumerate(
+        edgesmith.edges_from_entities_2d(loose, gap_tol=gap), start=1)]
     if not edges:
         return found
     try:

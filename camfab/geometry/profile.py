@@ -77,6 +77,13 @@ class Profile:
         bulges = -np.roll(self.bulges[::-1], -1)
         return Profile(vertices.copy(), bulges)
 
+    def canonical(self) -> Profile:
+        """The same contour counter-clockwise, starting at its vertex of least x (then y): one
+        contour, however it was chained, gives the same arrays (and the same arithmetic)."""
+        prof = self.ccw()
+        first = int(np.lexsort((prof.vertices[:, 1], prof.vertices[:, 0]))[0])
+        return Profile(np.roll(prof.vertices, -first, axis=0), np.roll(prof.bulges, -first))
+
     def arcs(self) -> Arcs:
         """Centre, radius and angles of every arc edge."""
         index = np.flatnonzero(self.bulges != 0.0)

@@ -1,0 +1,105 @@
+"""Batches of designs: run one task per design file, in parallel processes when asked, and sum up.
+
+A failure of one design (invalid, or a failed check) never stops the others; the batch's exit
+status is the worst of them. Worker processes live for the whole batch, so each imports the
+libraries once, not once per design. Results are reported in the order the designs were given,
+whatever order they finish in; a progress bar on stderr counts them as they finish.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+#: A batch of at least this many designs shows a progress bar when stderr is a terminal.
+PROGRESS_FROM = 8
+
+#: Status words of the summary by exit status.
+STATUS = {0: "OK", 1: "FAIL", 2: "INVALID"}
+
+
+@dataclass
+class Outcome:
+    """What one design's run printed, its exit status, and what the summary shows of it."""
+
+    code: int
+    out: list[str] = field(default_factory=list)
+    err: list[str] = field(default_factory=list)
+    name: str = ""
+    errors: int = 0
+    warnings: int = 0
+    files: int = 0
+    seconds: float = 0.0
+
+
+Task = Callable[[str, Path | None], Outcome]
+
+
+def _timed(task: Task, path: str, out_dir: Path | None) -> Outcome:
+    start = time.perf_counter()
+    outcome = task(path, out_dir)
+    outcome.seconds = time.perf_counter() - start
+    if not outcome.name:
+        outcome.name = Path(path).name
+    return outcome
+
+
+def run_all(paths: Sequence[str], out_dir: Path | None, jobs: int, task: Task,
+            progress: bool = False) -> list[Outcome]:
+    """*task* on every design of *paths*, in *jobs* worker processes (1: in this process), the
+    outcomes in the order of *paths*; *progress* shows a bar on stderr."""
+    bar = _bar(len(paths)) if progress else None
+    try:
+        if jobs == 1 or len(paths) == 1:
+            outcomes = []
+            for path in paths:
+                outcomes.append(_timed(task, path, out_dir))
+                if bar is not None:
+                    bar.update(1)
+            return outcomes
+        from concurrent.futures import ProcessPoolExecutor, as_completed
+
+        results: list[Outcome | None] = [None] * len(paths)
+        with ProcessPoolExecutor(max_workers=min(jobs, len(paths))) as pool:
+            futures = {pool.submit(_timed, task, path, out_dir): i
+                       for i, path in enumerate(paths)}
+            for future in as_completed(futures):
+                results[futures[future]] = future.result()
+                if bar is not None:
+                    bar.update(1)
+        return [r for r in results if r is not None]
+    finally:
+        if bar is not None:
+            bar.render_finish()
+
+
+def _bar(count: int) -> Any:
+    import click
+
+    bar = click.progressbar(length=count, label="building", file=click.get_text_stream("stderr"),
+                            show_pos=True, show_eta=True)
+    bar.render_progress()
+    return bar
+
+
+def summary(outcomes: Sequence[Outcome], wall_seconds: float) -> list[str]:
+    """A table of the batch: each design's status, errors, warnings, files and build time, and
+    the totals with the throughput."""
+    width = max([len("design"), *(len(o.name) for o in outcomes)])
+    head = f"{'design':<{width}}  {'status':<7}  {'errors':>6}  {'warnings':>8}  {'files':>5}  " \
+           f"{'seconds':>7}"
+    lines = [head, "-" * len(head)]
+    for o in outcomes:
+        lines.append(f"{o.name:<{width}}  {STATUS.get(o.code, str(o.code)):<7}  {o.errors:>6}  "
+                     f"{o.warnings:>8}  {o.files:>5}  {o.seconds:>7.2f}")
+    counts = {word: sum(1 for o in outcomes if STATUS.get(o.code) == word)
+              for word in STATUS.values()}
+    rate = len(outcomes) / wall_seconds if wall_seconds > 0 else float("inf")
+    lines.append("-" * len(head))
+    lines.append(f"{len(outcomes)} design(s): {counts['OK']} OK, {counts['FAIL']} FAIL, "
+                 f"{counts['INVALID']} INVALID; {sum(o.files for o in outcomes)} file(s) in "
+                 f"{wall_seconds:.2f} s ({rate:.1f} designs/s)")
+    return lines
