@@ -1,12 +1,16 @@
 """What the build benchmarks share: the repository, camfab byte-compiled as ``pip install``
-leaves it, and the wall time of a command in a fresh process."""
+leaves it, the wall time of a command in a fresh process, and the median time of a call made
+in process."""
 
 from __future__ import annotations
 
+import statistics
 import subprocess
 import sys
 import time
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -22,3 +26,23 @@ def wall(args: list[str]) -> float:
     subprocess.run(args, check=False, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
                    cwd=ROOT)
     return time.perf_counter() - start
+
+
+def use_checkout() -> None:
+    """Import camfab from this checkout (ahead of any installed copy)."""
+    if str(ROOT) not in sys.path:
+        sys.path.insert(0, str(ROOT))
+
+
+def seconds(job: Callable[[], Any]) -> float:
+    """Seconds one call of *job* takes."""
+    start = time.perf_counter()
+    job()
+    return time.perf_counter() - start
+
+
+def median_seconds(job: Callable[[], Any], runs: int, warm: int = 1) -> float:
+    """Median seconds of *runs* calls of *job*, after *warm* untimed calls (imports, caches)."""
+    for _ in range(warm):
+        job()
+    return statistics.median(seconds(job) for _ in range(runs))
