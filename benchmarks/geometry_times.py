@@ -59,7 +59,7 @@ def main() -> None:
     text = (ROOT / "designs" / "seed-poly-345.yaml").read_text()
     print("\nseed-poly-345 against the tolerance")
     print(f"{'tolerance mm':>12s} {'points':>7s} {'profile ms':>10s} {'lift error mm':>14s}")
-    for tolerance in (0.1, 0.01, 0.001, 0.0001, 0.00001):
+    for tolerance in (0.1, 0.01, 0.001, 0.0001):  # 0.0001 mm: the finest a design takes
         design = design_from_text(text + f"manufacturing: {{tolerance: {tolerance}}}\n")
         cam, program = G.disc_cam(design), design.program
         dense = G.dense_curves(cam, program)

@@ -43,9 +43,9 @@ EDGES = {
                        units="in", tolerance="manufacturing: {tolerance: 0.00004}\n"),
     "thousand-segments": _disc("thousand", 60, 3, 0, 12, 10, _thousand_segments()),
     "nanometre-offset": _disc("nano", 40, 10, 1e-9, 12, 10, CYCLE.replace("LIFT", "20")),
-    "rise-return": _disc("rr", 40, 10, 0, 12, 10, """  - rise:   {angle: 180, lift: 20, law: cycloidal}
-  - return: {angle: 180, law: cycloidal}
-"""),
+    "rise-return": _disc("rr", 40, 10, 0, 12, 10,
+                         "  - rise:   {angle: 180, lift: 20, law: cycloidal}\n"
+                         "  - return: {angle: 180, law: cycloidal}\n"),
 }
 
 

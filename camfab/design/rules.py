@@ -30,6 +30,18 @@ MIN_WALL_MM = 1.0
 #: s‴ = Δ·Cj/β³ finite in floating point.
 MIN_SEGMENT_DEG = 1e-6
 
+#: Finest export tolerance (mm), a tenth of a micrometre: below any machine's accuracy (and an
+#: STL's float32 coordinates), and a build at 1e-6 mm already takes minutes.
+MIN_TOLERANCE_MM = 1e-4
+
+#: Most motion segments camfab builds. Far more than any real cam's; analysis and exports take
+#: time in proportion to the count (a disc cam of a thousand segments builds in some 8 s).
+MAX_SEGMENTS = 1000
+
+#: Smallest nose radius of a circular-arc or tangent cam, as a share of its largest radius:
+#: the nose's normals come from points 1e-16 of that apart, and a nose much smaller has none.
+MIN_NOSE_SHARE = 1e-8
+
 #: Follower contact shapes per cam type.
 FOLLOWERS_FOR_CAM = {"disc": ("knife", "roller", "flat", "mushroom"), "cylindrical": ("roller",),
                      "circular-arc": ("knife", "roller", "flat", "mushroom"),
@@ -82,6 +94,7 @@ def check_rules(design: Design) -> None:
     _check_swinging_face(design, program)
     _check_manufacturing(design)
     _check_other(design)
+    _check_size(design, program.max_lift)
 
 
 def check_cam_type(cam_type: str) -> None:
@@ -97,6 +110,13 @@ def _check_cam(design: Design) -> None:
     for key in REQUIRED_CAM_KEYS[cam.type]:
         if getattr(cam, key) is None:
             fail(("cam", key), f"required for a {cam.type} cam", show_got=False)
+    tolerance = design.manufacturing.tolerance
+    if cam.base_radius is not None and cam.base_radius <= tolerance:
+        fail(("cam", "base_radius"), f"must be larger than the export tolerance "
+             f"({_mm(tolerance)}): a smaller cam cannot be drawn within it")
+    if cam.groove_depth is not None and cam.groove_depth <= tolerance:
+        fail(("cam", "groove_depth"), f"must be larger than the export tolerance "
+             f"({_mm(tolerance)}): a shallower groove cannot be cut to it")
     if cam.shaped:
         _check_shape(design)
     if cam.type == "groove":
@@ -178,9 +198,16 @@ def _check_shape(design: Design) -> None:
         fail(("cam", "nose_radius"), "required for a circular-arc cam (or flank_angle)",
              show_got=False)
     try:
-        design.shape  # noqa: B018 - building it checks it
+        shape = design.shape
     except ShapeError as exc:
         fail(("cam", exc.field), exc.problem)
+    size = shape.base_radius + shape.lift
+    if shape.nose_radius < MIN_NOSE_SHARE * size:
+        given = ("nose_radius" if cam.nose_radius is not None else
+                 "lift_angle" if cam.type == "tangent" else "flank_angle")
+        fail(("cam", given), f"gives a nose of radius {_mm(shape.nose_radius)}: it must be at "
+             f"least {MIN_NOSE_SHARE:g} of the cam's radius ({_mm(size)}), or rounding loses which "
+             "way the nose faces")
 
 
 def _check_follower(design: Design) -> None:
@@ -232,6 +259,9 @@ def _check_motion(design: Design) -> MotionProgram:
         return design.program
     if design.motion is None:
         fail(("motion",), "required (a list of rise, dwell and return segments)", show_got=False)
+    if len(design.motion) > MAX_SEGMENTS:
+        fail(("motion",), f"has {len(design.motion):,} segments; camfab builds at most "
+             f"{MAX_SEGMENTS:,}", show_got=False)
     linear = design.cam.linear
     span_key = "travel" if linear else "angle"
     for i, seg in enumerate(design.motion):
@@ -272,11 +302,70 @@ def _check_motion(design: Design) -> MotionProgram:
         if exc.field:
             path = (*path, *_split(exc.field))
         fail(path, exc.problem, show_got=False)
+    _check_excursion(design, program)
+    _check_steepness(design, program)
     if design.cam.type == "constant-breadth":
         _check_half_turn(design, program)
     if design.cam.type == "conjugate":
         _check_partner(design, program)
     return program
+
+
+#: How far (a share of the top lift) a segment may stray below zero lift or above the program's
+#: top between its ends: a table's spline through measured points swings a little past them.
+EXCURSION_SHARE = 0.1
+
+
+def _check_excursion(design: Design, program: MotionProgram) -> None:
+    """A polynomial's or table's curve must stay near zero lift and the program's top lift (the
+    largest lift at a segment's end) inside its segment, not only at its ends: boundary
+    conditions or points can swing it far below zero (the follower would leave the cam) or far
+    above (the cam would be larger than every check and fit assumes)."""
+    import numpy as np
+
+    segment, theta, m = program.segment_grid(math.radians(0.1))
+    top = program.max_lift
+    slack = EXCURSION_SHARE * top + 1e-9
+    low, high = int(np.argmin(m[0])), int(np.argmax(m[0]))
+    if m[0][low] >= -slack and m[0][high] <= top + slack:
+        return
+    k = low if m[0][low] < -slack else high
+    show = (lambda v: f"{math.degrees(v):.6g}°") if design.follower.oscillating else _mm
+    where = f"s = {show(float(m[0][k]))} at θ = {math.degrees(float(theta[k])):.6g}°"
+    problem = ("goes below zero lift inside the segment, by more than a tenth of the top lift "
+               f"{show(top)}" if k == low else f"overshoots the program's top lift {show(top)} "
+               "inside the segment by more than a tenth of it")
+    fail(("motion", int(segment[k])), f"{problem} ({where}): change its boundary conditions "
+         "or points", show_got=False)
+
+
+#: Steepest motion camfab builds: the follower at most this many times as fast as the cam's
+#: surface under it (a pressure angle of some 89.4°). Far past any working cam (the pressure
+#: angle limit is some 30°), it keeps the curves countable: the pitch curve turns ever sharper
+#: corners, and the points it needs grow as the square of the steepness.
+MAX_STEEPNESS = 100.0
+
+
+def _check_steepness(design: Design, program: MotionProgram) -> None:
+    """No segment may move the follower more than :data:`MAX_STEEPNESS` times as fast as the
+    cam's surface under it (a plate's prime circle and lift, a drum's surface, a linear cam's
+    travel)."""
+    cam, fol = design.cam, design.follower
+    arm = (fol.arm_length or 0.0) if fol.oscillating else 1.0
+    if cam.linear:
+        surface = (cam.stroke or 0.0) / (2.0 * math.pi)  # travel per radian of the cycle
+    elif cam.type == "cylindrical":
+        surface = cam.radius or 0.0
+    else:
+        surface = (cam.base_radius or 0.0) + fol.trace_radius + program.max_lift * arm
+    worst = max(program.segments, key=lambda seg: seg.peak(1))
+    ratio = worst.peak(1) * arm / surface if surface > 0.0 else 0.0
+    if ratio > MAX_STEEPNESS:
+        fail(("motion", worst.index), f"is too steep to build: the follower moves {ratio:.3g} "
+             f"times as fast as the cam's surface under it (at most {MAX_STEEPNESS:g}, a "
+             f"pressure angle of {math.degrees(math.atan(MAX_STEEPNESS)):.4g}°); spread the "
+             f"{worst.kind} over a {'longer travel' if cam.linear else 'larger angle'}",
+             show_got=False)
 
 
 def _check_partner(design: Design, program: MotionProgram) -> None:
@@ -452,12 +541,39 @@ def _check_other(design: Design) -> None:
     if design.manufacturing.tolerance > 1.0:
         fail(("manufacturing", "tolerance"), "must be at most 1 mm (it is the largest allowed "
              "deviation of the exported curves)")
+    if design.manufacturing.tolerance < MIN_TOLERANCE_MM:
+        fail(("manufacturing", "tolerance"), f"must be at least {MIN_TOLERANCE_MM:g} mm: no "
+             "machine holds less, and the exports' points grow without bound as it shrinks")
     if design.outputs is not None and len(set(design.outputs)) != len(design.outputs):
         fail(("outputs",), "lists an output twice")
     spring = design.spring
     if spring is not None and spring.preload is not None and spring.initial_compression is not None:
         fail(("spring", "initial_compression"), "give either preload or initial_compression, "
              "not both", show_got=False)
+
+
+#: Largest cam size per unit of export tolerance. An STL's float32 coordinates round by up to
+#: 3e-8 of the part's size, which stays under a tenth of the tolerance; and the exports' points
+#: grow with the ratio (a cam 3 m across at 0.001 mm already takes seconds and gigabytes).
+MAX_SIZE_PER_TOLERANCE = 3e6
+
+
+def _check_size(design: Design, max_lift: float) -> None:
+    """The tolerance must suit the cam's size (roughly its largest dimension: body, lift and
+    follower)."""
+    cam, fol = design.cam, design.follower
+    body = max(v or 0.0 for v in (cam.base_radius, cam.radius, cam.length, cam.outer_radius,
+                                  cam.stroke, cam.base_height, fol.roller_spacing))
+    lift = max_lift * (fol.arm_length or 0.0) if fol.oscillating else max_lift
+    size = body + lift + fol.trace_radius
+    tolerance = design.manufacturing.tolerance
+    if size > MAX_SIZE_PER_TOLERANCE * tolerance:
+        least = size / MAX_SIZE_PER_TOLERANCE
+        step = 10.0 ** (math.floor(math.log10(least)) - 1)
+        least = math.ceil(least / step) * step  # rounded up to two digits
+        fail(("manufacturing", "tolerance"), f"must be at least {least:.2g} mm for a cam of some "
+             f"{size:.4g} mm: no file holds a finer one on a part that large (an STL's "
+             f"coordinates round by {size * 3e-8:.2g} mm)")
 
 
 def _split(field: str) -> tuple[str | int, ...]:

@@ -20,6 +20,15 @@ Path_ = tuple[str | int, ...]
 #: Design files are small; anything larger is almost certainly the wrong file.
 MAX_DESIGN_BYTES = 5_000_000
 
+#: Deepest nesting of mappings and lists a design may use (a real one nests four or five deep);
+#: checked before composing, whose recursion would otherwise overflow the C stack.
+MAX_DEPTH = 50
+
+#: Most YAML values (scalars, mappings, lists) a design may hold, written or through aliases
+#: (``*name``): far more than any design needs, few enough to read in well under a second, and
+#: an alias bomb (aliases of aliases, expanding exponentially) stops here.
+MAX_VALUES = 100_000
+
 _Loader = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
 
 
@@ -94,6 +103,7 @@ def read_design_file(path: str | Path) -> SourceDocument:
 def parse_yaml(text: str, file: str = "<design>", folder: Path = Path(".")) -> SourceDocument:
     """Parse YAML *text* into a :class:`SourceDocument`."""
     try:
+        _check_size(text, file)
         root = yaml.compose(text, Loader=_Loader)
     except yaml.MarkedYAMLError as exc:
         mark = exc.problem_mark or exc.context_mark
@@ -121,6 +131,27 @@ def parse_yaml(text: str, file: str = "<design>", folder: Path = Path(".")) -> S
     return SourceDocument(file=file, data=data, lines=builder.lines, folder=folder)
 
 
+def _check_size(text: str, file: str) -> None:
+    """Refuse YAML nested deeper than :data:`MAX_DEPTH` or with more than :data:`MAX_VALUES`
+    values, from the parser's flat event stream (before any recursion)."""
+    depth = values = 0
+    for event in yaml.parse(text, Loader=_Loader):
+        if isinstance(event, (yaml.MappingStartEvent, yaml.SequenceStartEvent)):
+            depth += 1
+            if depth > MAX_DEPTH:
+                raise DesignError("nested too deeply",
+                                  location=Location(file, event.start_mark.line + 1, ""))
+        elif isinstance(event, (yaml.MappingEndEvent, yaml.SequenceEndEvent)):
+            depth -= 1
+            continue
+        elif not isinstance(event, (yaml.ScalarEvent, yaml.AliasEvent)):
+            continue
+        values += 1
+        if values > MAX_VALUES:
+            raise DesignError(f"holds more than {MAX_VALUES:,} values; a design needs far fewer",
+                              location=Location(file, event.start_mark.line + 1, ""))
+
+
 class _Builder:
     """Turns composed nodes into plain data, recording lines by path."""
 
@@ -129,14 +160,21 @@ class _Builder:
         self.lines: dict[Path_, int] = {}
         self._scalars = yaml.constructor.SafeConstructor()
         self._depth = 0
+        self._built = 0
 
     def build(self, node: yaml.Node, path: Path_) -> Any:
         self.lines.setdefault(path, node.start_mark.line + 1)
         self._depth += 1
+        self._built += 1
         try:
-            if self._depth > 50:
+            if self._depth > MAX_DEPTH:
                 raise DesignError(
                     "nested too deeply", location=Location(self.file, node.start_mark.line + 1, "")
+                )
+            if self._built > MAX_VALUES:  # aliases of aliases: an "alias bomb"
+                raise DesignError(
+                    f"YAML aliases (*name) expand to more than {MAX_VALUES:,} values",
+                    location=Location(self.file, node.start_mark.line + 1, ""),
                 )
             if isinstance(node, yaml.MappingNode):
                 return self._mapping(node, path)
@@ -144,7 +182,7 @@ class _Builder:
                 return [self.build(item, (*path, i)) for i, item in enumerate(node.value)]
             try:
                 return self._scalars.construct_object(node)
-            except (yaml.YAMLError, ValueError, OverflowError):
+            except Exception:  # a tag its text does not fit ("!!bool x" is a KeyError): as text
                 return node.value
         finally:
             self._depth -= 1

@@ -11,6 +11,7 @@ paying for its import.
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass
 from functools import lru_cache
 from typing import Any
@@ -45,6 +46,14 @@ RATE = Kind("a spring rate", "N/mm", "N/mm", "[force]/[length]", "N/mm, N/m, lbf
             "1e9 N/mm")
 DAMPING = Kind("a damping coefficient", "N*s/m", "N*s/m", "[force]*[time]/[length]", "N*s/m",
                1e9, "1e9 N·s/m")
+
+#: A value with a unit: a plain decimal number, then the unit (``"1.5 in"``, ``"24 N/mm"``).
+_NUMBER_UNIT = re.compile(
+    r"\s*[-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][-+]?[0-9]+)?(?![0-9.])\s*(?P<unit>.*)", re.S)
+#: A unit's one-digit power (``mm**2``, ``s^-2``) that is not itself raised to a power.
+_POWER = re.compile(r"(?:\*\*|\^)\s*\(?\s*[-+]?[0-9]\s*\)?(?!\s*\)?\s*(?:\*\*|\^))")
+#: What else a unit may be written with: names, products, quotients and brackets.
+_UNIT_PUNCTUATION = set(" */()_·°")
 
 _ANGLE_UNITS = ("degree", "radian", "revolution", "turn", "arcminute", "arcsecond", "gradian")
 
@@ -114,6 +123,11 @@ def _in_range(value: float, raw: object, kind: Kind) -> float:
 def _convert_text(text: str, raw: str, kind: Kind, design_units: str) -> float:
     if not any(ch.isdigit() for ch in text):  # empty, or words: not a quantity
         raise DesignError(f"must be {kind.name}", got=raw, allowed=_allowed(kind))
+    if not _number_and_unit(text):
+        raise DesignError(
+            f"must be {kind.name} (a number, optionally with a unit)", got=raw,
+            allowed=_allowed(kind),
+        )
     ureg = registry()
     try:
         quantity = ureg.Quantity(text)
@@ -132,6 +146,8 @@ def _convert_text(text: str, raw: str, kind: Kind, design_units: str) -> float:
         return convert(float(quantity), kind, design_units)
     try:
         magnitude = float(quantity.magnitude)
+    except OverflowError:  # an integer too large for a float
+        magnitude = math.inf
     except (TypeError, ValueError):
         raise DesignError(f"must be {kind.name}", got=raw, allowed=_allowed(kind)) from None
     _check_finite(magnitude, raw, kind)
@@ -143,6 +159,17 @@ def _convert_text(text: str, raw: str, kind: Kind, design_units: str) -> float:
             f"must be {kind.name}, not {_describe(quantity)}", got=raw, allowed=_allowed(kind)
         )
     return float(quantity.to(kind.internal).magnitude)
+
+
+def _number_and_unit(text: str) -> bool:
+    """True when *text* is a plain number followed by a unit built of names, products, quotients
+    and one-digit powers. pint evaluates whatever it is given as arithmetic: ``"10**10**10 mm"``
+    would never finish and ``"[1,2] mm"`` would read as 12 mm."""
+    match = _NUMBER_UNIT.fullmatch(text)
+    if match is None:
+        return False
+    unit = _POWER.sub(" ", match["unit"])
+    return all(ch.isalpha() or ch in _UNIT_PUNCTUATION for ch in unit)
 
 
 def _has_kind(quantity: Any, kind: Kind) -> bool:

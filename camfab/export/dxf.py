@@ -56,6 +56,8 @@ def add_contour(msp: Any, profile: Profile, scale: float, layer: str,
     into the closed contour.
     """
     attribs = {"layer": layer}
+    if closed:
+        profile = _readable(profile, READ_GAP / scale)
     v = profile.vertices * scale
     following = np.roll(v, -1, axis=0)
     arcs = profile.arcs()
@@ -70,6 +72,17 @@ def add_contour(msp: Any, profile: Profile, scale: float, layer: str,
         low, high = (start, start + sweep) if sweep > 0 else (start + sweep, start)
         msp.add_arc(tuple(arcs.centre[k] * scale), float(arcs.radius[k]) * scale, low, high,
                     dxfattribs=attribs)
+
+
+def _readable(profile: Profile, gap: float) -> Profile:
+    """*profile* without edges shorter than *gap* (mm): a reader drops them (a tiny nose arc),
+    and the edges either side would no longer meet; the edge before now ends where the next
+    begins, moved by at most the dropped edge's length."""
+    v = profile.vertices
+    keep = np.hypot(*(np.roll(v, -1, axis=0) - v).T) > gap
+    if keep.all() or np.count_nonzero(keep) < 2:
+        return profile
+    return Profile(v[keep], profile.bulges[keep])
 
 
 def add_contours(msp: Any, contours: Contours, scale: float, layer: str) -> None:

@@ -24,6 +24,13 @@ MAX_SWEEP = math.pi / 2
 #: 1e-9 the difference is far below any tolerance camfab accepts.
 STRAIGHT = 1e-9
 
+#: The largest arc radius written (mm); a flatter arc is a line if the line holds the tolerance.
+#: A DXF gives an arc by its centre, radius and angles, and a reader recomputes its ends from
+#: them, about 1e-16 of the radius off: at 10¹¹ mm (a nearly straight run of a large part)
+#: 10⁻⁵ mm, past the reader's gap (``camfab.export.dxf.READ_GAP``), and the outline no longer
+#: closes; at 10⁹ mm 10⁻⁷ mm.
+MAX_RADIUS = 1e9
+
 
 def _arc_error(points: Array, start: int, end: int) -> tuple[float, float]:
     """The largest distance (mm) of points[start..end] from the arc through the ends and the
@@ -49,6 +56,9 @@ def _arc_error(points: Array, start: int, end: int) -> tuple[float, float]:
     ux = (cy * a2 - ay * b2) / d
     uy = (ax * b2 - cx * a2) / d
     radius = math.hypot(ux, uy)
+    if radius > MAX_RADIUS:  # as a line (accepted only where the line holds the tolerance)
+        off = np.abs((inner[:, 0] - x0) * cy - (inner[:, 1] - y0) * cx) / length
+        return float(off.max()), 0.0
     error = float(np.max(np.abs(np.hypot(inner[:, 0] - (x0 + ux), inner[:, 1] - (y0 + uy))
                                 - radius)))
     # the points must also run along the arc the bulge describes (not around the far side)

@@ -65,9 +65,11 @@ def stations(d: Drum, program: MotionProgram, tolerance: float) -> Array:
 
 def _rows(d: Drum, theta: Array, m: Array, tolerance: float) -> Array:
     """Radii of the wall rows: the floor to the surface in equal steps, as many as keep the
-    straight pieces between rows within *tolerance* (mm) of the wall, then one row beyond."""
+    straight pieces between rows within *tolerance* (mm) of the wall, then one row beyond.
+    There is always a row between the floor and the surface: the read-back check
+    (:func:`groove_lift`) runs the roller over the wall vertices strictly between them."""
     outer = d.radius + max(SURFACE_MARGIN_MM, 0.1 * d.depth)
-    count = 1
+    count = 2
     while True:
         radii = np.linspace(d.root, d.radius, count + 1)
         mid = 0.5 * (radii[:-1] + radii[1:])

@@ -120,7 +120,11 @@ def plate(design: Design, geom: DiscGeometry) -> Plate:
         """The outline grown by *distance*: exactly for an exact outline of lines and arcs
         meeting tangentially, through shapely and an arc fit otherwise."""
         if geom.exact:
-            return outline.offset(distance)
+            try:
+                return outline.offset(distance)
+            except ValueError:  # a corner of rounding (a lift of picometres): as a fitted one
+                return offset_outline(outline.points(OFFSET_SHARE * tolerance), distance,
+                                      tolerance)
         return offset_outline(geom.profile.vertices, distance, tolerance)
 
     part_holes = holes(design)

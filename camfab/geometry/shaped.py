@@ -154,13 +154,20 @@ class ShapedCam:
         elif nose_radius is not None:
             raise ShapeError("nose_radius", "give either lift_angle or nose_radius, not both")
         else:
-            least = math.acos(r1 / (r1 + h))
+            # for the tiny angles of a tiny lift cos α rounds to 1: there 1 − cos α is taken
+            # as 2 sin²(α/2)
+            tiny = h / (r1 + h) < 1e-8
+            least = (2.0 * math.asin(math.sqrt(h / (2.0 * (r1 + h)))) if tiny
+                     else math.acos(r1 / (r1 + h)))
             if not least < lift_angle < math.pi / 2:
                 raise ShapeError(
                     "lift_angle", f"must lie between {math.degrees(least):.6g}° (a nose of radius "
                     "0) and 90° (flanks parallel) for this base radius and lift")
             cos_a = math.cos(lift_angle)
-            nose_radius = (r1 - (r1 + h) * cos_a) / (1.0 - cos_a)
+            if tiny:
+                nose_radius = r1 - h * cos_a / (2.0 * math.sin(lift_angle / 2.0) ** 2)
+            else:
+                nose_radius = (r1 - (r1 + h) * cos_a) / (1.0 - cos_a)
         _check_angles(lift_angle, top_dwell, math.pi / 2, "below 90°")
         cam = cls("tangent", r1, h, nose_radius, lift_angle, top_dwell)
         cam._check_nose()

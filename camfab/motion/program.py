@@ -189,7 +189,7 @@ def build_program(specs: Sequence[SegmentSpec]) -> MotionProgram:
     total = sum(spec.angle for spec in specs)
     if not math.isclose(total, TWO_PI, rel_tol=0.0, abs_tol=1e-9):
         raise ProgramError(
-            None, "", f"the segment angles sum to {math.degrees(total):.6g}°; they must sum to 360°"
+            None, "", f"the segment angles sum to {_degrees(total)}°; they must sum to 360°"
         )
     builder = _LawBuilder(specs, _place(specs))
     builder.build_all()
@@ -245,6 +245,15 @@ def _table_lift(index: int, spec: SegmentSpec, level: float) -> float | None:
 
 def _fmt(value: float) -> str:
     return f"{value:.6g}"
+
+
+def _degrees(angle: float) -> str:
+    """*angle* (rad) in degrees with the digits that tell it from a whole turn."""
+    for digits in (6, 9, 12, 17):
+        text = f"{math.degrees(angle):.{digits}g}"
+        if float(text) != 360.0:
+            return text
+    return text
 
 
 class _LawBuilder:
