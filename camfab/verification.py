@@ -220,7 +220,9 @@ def _verify_drum(analysis: Analysis) -> tuple[Verification, dict[str, bytes], di
     theta = cycle_angles(DRUM_VERIFY_STEP)
     centre_z = d.start + program.evaluate(theta)[0]
     low, high = groove_lift(d, vertices, theta, centre_z)
-    error = np.where(np.isfinite(low) & np.isfinite(high), 0.5 * (low + high) - centre_z, np.inf)
+    found = np.isfinite(low) & np.isfinite(high)  # the roller meets both walls
+    error = np.full(theta.size, np.inf)
+    error[found] = 0.5 * (low[found] + high[found]) - centre_z[found]
     # the developed groove: the walls at the surface, closed across the seam
     dev = development(d, program, tolerance)
     band = fit_arcs(np.vstack((dev.lower, dev.upper[::-1])), tolerance)
