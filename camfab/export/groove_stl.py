@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from camfab.export.stl import _binary_stl, hole_points
+from camfab.export.stl import binary_stl, chain_length, hole_points, holes_area
 from camfab.geometry.sampling import arc_points
 
 if TYPE_CHECKING:
@@ -42,7 +42,7 @@ def render_groove_stl(analysis: Analysis, holes: Contours) -> bytes:
                                    manifold3d.FillRule.EvenOdd)
     pocket = manifold3d.Manifold.extrude(band, walls.depth + _OVERSHOOT_MM).translate(
         (0.0, 0.0, walls.thickness - walls.depth))
-    return _binary_stl(plate - pocket)
+    return binary_stl(plate - pocket)
 
 
 def groove_volume(analysis: Analysis, holes: Contours) -> tuple[float, float]:
@@ -52,17 +52,11 @@ def groove_volume(analysis: Analysis, holes: Contours) -> tuple[float, float]:
     geom, walls = analysis.geometry, analysis.groove
     assert geom is not None and walls is not None
     t, d = walls.thickness, walls.depth
-    hole_area = (sum(p.area for p in holes.profiles)
-                 + sum(math.pi * r * r for r in holes.circles))
+    hole_area = holes_area(holes)
     groove_area = walls.outer.area - walls.inner.area
     volume = (math.pi * walls.outer_radius**2 - hole_area) * t - groove_area * d
     chains = hole_points(holes, geom.tolerance)
-    through = 2 * math.pi * walls.outer_radius + sum(_length(c) for c in chains)
-    pocket = _length(walls.outer_points) + _length(walls.inner_points)
+    through = 2 * math.pi * walls.outer_radius + sum(chain_length(c) for c in chains)
+    pocket = chain_length(walls.outer_points) + chain_length(walls.inner_points)
     tolerance = analysis.design.manufacturing.tolerance
     return volume, tolerance * (through * t + pocket * d)
-
-
-def _length(chain: np.ndarray) -> float:
-    """The length (mm) of a closed chain of points."""
-    return float(np.hypot(*(np.roll(chain, -1, axis=0) - chain).T).sum())

@@ -17,8 +17,6 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-import numpy as np
-
 from camfab.export.dxf import add_contour, dxf_bytes, new_document
 
 if TYPE_CHECKING:
@@ -77,7 +75,7 @@ def render_linear_stl(analysis: Analysis) -> tuple[bytes, float, float] | None:
     import manifold3d
     import trimesh  # noqa: F401  (before manifold3d computes: see camfab.export.stl)
 
-    from camfab.export.stl import binary_stl
+    from camfab.export.stl import binary_stl, chain_length
 
     geom, thickness = analysis.linear, analysis.design.cam.thickness
     assert geom is not None
@@ -86,7 +84,7 @@ def render_linear_stl(analysis: Analysis) -> tuple[bytes, float, float] | None:
     chain = geom.outline_points()
     section = manifold3d.CrossSection([chain], manifold3d.FillRule.EvenOdd)
     data = binary_stl(manifold3d.Manifold.extrude(section, thickness))
-    perimeter = float(np.hypot(*(np.roll(chain, -1, axis=0) - chain).T).sum())
+    perimeter = chain_length(chain)
     tolerance = analysis.design.manufacturing.tolerance
     return data, geom.outline.area * thickness, tolerance * perimeter * thickness
 

@@ -32,13 +32,24 @@ def hole_points(holes: Contours, tolerance: float) -> list[Array]:
     return chains
 
 
+def holes_area(holes: Contours) -> float:
+    """The exact area (mm²) of *holes*: their contours' (arcs included) and circles'."""
+    return (sum(p.area for p in holes.profiles)
+            + sum(math.pi * r * r for r in holes.circles))
+
+
+def chain_length(chain: Array) -> float:
+    """The length (mm) of a closed chain of (N, 2) points."""
+    return float(np.hypot(*(np.roll(chain, -1, axis=0) - chain).T).sum())
+
+
 def circle_segments(radius: float, tolerance: float) -> int:
     """Sides of a polygon inscribed in a circle of *radius* whose chords stray at most
     *tolerance* (mm) from it."""
     return max(8, math.ceil(math.pi / math.acos(max(-1.0, 1.0 - tolerance / radius))))
 
 
-def _binary_stl(solid: Any) -> bytes:
+def binary_stl(solid: Any) -> bytes:
     """The solid as binary STL bytes. The file stores float32: vertices that round to the same
     float32 point become one, and the faces that then have no area (an edge collapsed, which
     keeps the surface closed) are dropped, so what is read back is the closed solid."""
@@ -53,10 +64,6 @@ def _binary_stl(solid: Any) -> bytes:
     data = tm.export(file_type="stl")
     assert isinstance(data, bytes)
     return data
-
-
-#: The binary writer, for the other exporters of solids (a linear cam's plate).
-binary_stl = _binary_stl
 
 
 #: trimesh (which imports much of scipy) is imported before manifold3d computes anything: after
@@ -89,28 +96,23 @@ def render_drum_stl(analysis: Analysis) -> tuple[bytes, float, float]:
                                             circular_segments=circle_segments(d.bore, tolerance))
         body = body - bore.translate((0.0, 0.0, -1.0))
     solid = body - groove
-    return _binary_stl(solid), float(solid.volume()), float(solid.surface_area())
+    return binary_stl(solid), float(solid.volume()), float(solid.surface_area())
 
 
 def render_stl(analysis: Analysis, plate: Plate) -> bytes | None:
     """The binary STL of the plate, or None when the design gives no ``thickness``."""
-    import manifold3d
-    import trimesh  # noqa: F401  (before manifold3d computes: see above)
-
     geom, cam = analysis.geometry, analysis.design.cam
     assert geom is not None
     if cam.thickness is None:
         return None
-    contours = [geom.outline_points(), *hole_points(plate.holes, geom.tolerance)]
-    section = manifold3d.CrossSection(contours, manifold3d.FillRule.EvenOdd)
-    return _binary_stl(manifold3d.Manifold.extrude(section, cam.thickness))
+    return render_stack_stl([geom.outline_points()], plate.holes, geom.tolerance, cam.thickness)
 
 
 def render_stack_stl(outlines: list[Array], holes: Contours, tolerance: float,
                      thickness: float) -> bytes:
     """The binary STL of plates stacked along Z on one bore (mm): plate i is the outline
     *outlines[i]* with the *holes*, from z = i·thickness to (i + 1)·thickness, the plates joined
-    face to face into one solid (a conjugate pair printed as one part)."""
+    face to face into one solid (a conjugate pair printed as one part; one outline, one plate)."""
     import manifold3d
     import trimesh  # noqa: F401  (before manifold3d computes: see above)
 
@@ -119,7 +121,9 @@ def render_stack_stl(outlines: list[Array], holes: Contours, tolerance: float,
                   manifold3d.CrossSection([outline, *bores], manifold3d.FillRule.EvenOdd),
                   thickness).translate((0.0, 0.0, i * thickness))
               for i, outline in enumerate(outlines)]
-    return _binary_stl(manifold3d.Manifold.batch_boolean(plates, manifold3d.OpType.Add))
+    if len(plates) == 1:
+        return binary_stl(plates[0])
+    return binary_stl(manifold3d.Manifold.batch_boolean(plates, manifold3d.OpType.Add))
 
 
 #: A face with less area than this (mm²) counts as degenerate: far below any facet a plate of
@@ -156,10 +160,9 @@ def expected_volume(analysis: Analysis, plate: Plate) -> tuple[float, float]:
     allowance for the tolerance along every contour (mm³)."""
     geom, cam = analysis.geometry, analysis.design.cam
     assert geom is not None and cam.thickness is not None
-    area = geom.profile.area - sum(p.area for p in plate.holes.profiles)
-    area -= sum(math.pi * r * r for r in plate.holes.circles)
+    area = geom.profile.area - holes_area(plate.holes)
     chains = [geom.outline_points(), *hole_points(plate.holes, geom.tolerance)]
-    length = sum(float(np.hypot(*(np.roll(c, -1, axis=0) - c).T).sum()) for c in chains)
+    length = sum(chain_length(c) for c in chains)
     tolerance = analysis.design.manufacturing.tolerance
     return area * cam.thickness, tolerance * length * cam.thickness
 
