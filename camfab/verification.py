@@ -154,25 +154,35 @@ class ReadBack:
     deviation: float | None
 
 
-def read_back(design: Design, geom: DiscGeometry, program: MotionProgram, dxf: bytes, kerf: float,
-              file_name: str, move: Callable[[Profile], Profile] | None = None) -> ReadBack:
-    """Read a plate cam's CUT outline back from *dxf* as a reader would, take the laser's
-    *kerf* (mm) back off, and run the follower of *geom* through *program* over it; *move*
-    takes the outline from the frame the file draws it in to the frame of *geom* (a conjugate
-    pair's cam b)."""
+def read_part(dxf: bytes, mm_per_unit: float, kerf: float, tolerance: float, file_name: str,
+              move: Callable[[Profile], Profile] | None = None) -> tuple[Profile, Profile, str]:
+    """The CUT outline of *dxf* read back as a reader would (mm; moved by *move* into the frame
+    it was computed in), the part it makes (the laser's *kerf* taken back off, its offset within
+    *tolerance*), and a sentence saying so."""
     from camfab.export.dxf import read_cut_outline
-    from camfab.geometry.curves import offset_inward
-    from camfab.geometry.disc_geometry import lift_check
     from camfab.geometry.plate import inside_kerf
 
-    written = read_cut_outline(dxf, design.mm_per_unit)
+    written = read_cut_outline(dxf, mm_per_unit)
     if move is not None:
         written = move(written)
     part = written
     source = f"CUT outline read back from {file_name}"
     if kerf > 0.0:
-        part = inside_kerf(written, kerf, geom.tolerance)
+        part = inside_kerf(written, kerf, tolerance)
         source += f", less the kerf/2 of {kerf / 2:.6g} mm the beam removes"
+    return written, part, source
+
+
+def read_back(design: Design, geom: DiscGeometry, program: MotionProgram, dxf: bytes, kerf: float,
+              file_name: str, move: Callable[[Profile], Profile] | None = None) -> ReadBack:
+    """Read a plate cam's CUT outline back from *dxf* (see :func:`read_part`) and run the
+    follower of *geom* through *program* over it; *move* takes the outline from the frame the
+    file draws it in to the frame of *geom* (a conjugate pair's cam b)."""
+    from camfab.geometry.curves import offset_inward
+    from camfab.geometry.disc_geometry import lift_check
+
+    written, part, source = read_part(dxf, design.mm_per_unit, kerf, geom.tolerance, file_name,
+                                      move)
     deviation = None
     if not geom.undercut:
         exact = offset_inward(geom.dense.working, geom.cam.sigma, -kerf / 2.0)

@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from camfab.verification import Verification, named
+from camfab.verification import Verification, named, read_part
 
 if TYPE_CHECKING:
     from camfab.export.stl import StlCheck
@@ -52,10 +52,9 @@ def verify_linear(analysis: Analysis,
                   requested: tuple[str, ...]) -> tuple[Verification, dict[str, dict[str, bytes]]]:
     """Make the DXF (always: it is what is verified), and the SVG and STL when *requested*, read
     them back and run the follower over the CUT outline."""
-    from camfab.export.dxf import read_cut_outline
     from camfab.export.linear_files import render_linear_dxf, render_linear_stl
     from camfab.geometry.linear import lift_check
-    from camfab.geometry.plate import Contours, inside_kerf
+    from camfab.geometry.plate import Contours
 
     design, geom = analysis.design, analysis.linear
     assert geom is not None
@@ -71,13 +70,9 @@ def verify_linear(analysis: Analysis,
             stl_check = check_stl(files["stl"], volume, allowance)
     dxf = render_linear_dxf(analysis, cut, pitch, toolpath)
     files["dxf"] = dxf
-    written = read_cut_outline(dxf, design.mm_per_unit)
-    part = written
-    source = f"CUT outline read back from {design.name}.dxf"
     kerf = design.manufacturing.kerf
-    if kerf > 0.0:
-        part = inside_kerf(written, kerf, geom.tolerance)
-        source += f", less the kerf/2 of {kerf / 2:.6g} mm the beam removes"
+    written, part, source = read_part(dxf, design.mm_per_unit, kerf, geom.tolerance,
+                                      f"{design.name}.dxf")
     lift = lift_check(geom.cam, analysis.program, part)
     deviation = None
     if not geom.undercut:
