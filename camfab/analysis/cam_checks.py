@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -54,24 +55,24 @@ class CamNumbers:
     undercut_ranges: tuple[Range, ...]
 
 
-#: The extremes every plate cam reports: the pitch curve's smallest convex and concave radii,
-#: the profile's, the largest pressure angle and each segment's.
-CurveExtremes = tuple[Extreme, Extreme, Extreme, Extreme, Extreme, list[Extreme]]
-
-
 def curve_extremes(theta: Array, pitch_radius: Array, working_radius: Array, folds: Mask,
-                   pressure_angle: Array, segment: Index, segment_count: int) -> CurveExtremes:
-    """The smallest convex and concave radii (mm) of the pitch and working curves, the largest
-    |pressure angle| (deg) over the cycle and in each segment, on a dense grid of *theta*."""
+                   pressure_angle: Array, segment: Index, segment_count: int) -> dict[str, Any]:
+    """The extremes every plate cam reports, on a dense grid of *theta*, by their field names
+    in :class:`CamNumbers` (and a linear cam's numbers): the smallest convex and concave radii
+    (mm) of the pitch and working curves, the largest |pressure angle| (deg) over the cycle
+    and in each segment."""
     rp, rw = pitch_radius, working_radius
     phi = np.degrees(np.abs(pressure_angle))
-    return (extreme(theta, rp, rp > 0, largest=False),
-            extreme(theta, -rp, rp < 0, largest=False),
-            extreme(theta, rw, rw > 0, largest=False),
-            # the raw envelope's loops run backwards (ρ < 0) but are cut away: not concave parts
-            extreme(theta, -rw, (rw < 0) & ~folds, largest=False),
-            extreme(theta, phi, largest=True),
-            [extreme(theta, phi, segment == i, largest=True) for i in range(segment_count)])
+    return {
+        "pitch_min_convex": extreme(theta, rp, rp > 0, largest=False),
+        "pitch_min_concave": extreme(theta, -rp, rp < 0, largest=False),
+        "profile_min_convex": extreme(theta, rw, rw > 0, largest=False),
+        # the raw envelope's loops run backwards (ρ < 0) but are cut away: not concave parts
+        "profile_min_concave": extreme(theta, -rw, (rw < 0) & ~folds, largest=False),
+        "pressure_angle": extreme(theta, phi, largest=True),
+        "segment_pressure": [extreme(theta, phi, segment == i, largest=True)
+                             for i in range(segment_count)],
+    }
 
 
 def cam_numbers(geom: DiscGeometry, segment_count: int) -> CamNumbers:
@@ -83,19 +84,12 @@ def cam_numbers(geom: DiscGeometry, segment_count: int) -> CamNumbers:
         contact = (float(dense.face_contact.min()), float(dense.face_contact.max()))
     undercut = merge([*ranges_deg(theta, geom.folds),
                       *ranges_deg(geom.working.theta, geom.cut)])
-    pitch_convex, pitch_concave, convex, concave, pressure, per_segment = curve_extremes(
-        theta, dense.pitch.radius, dense.working.radius, geom.folds, dense.pressure_angle,
-        dense.segment, segment_count)
     return CamNumbers(
         max_radius_mm=float(np.max(geom.profile.radii())),
-        pitch_min_convex=pitch_convex,
-        pitch_min_concave=pitch_concave,
-        profile_min_convex=convex,
-        profile_min_concave=concave,
-        pressure_angle=pressure,
-        segment_pressure=per_segment,
         face_contact_mm=contact,
         undercut_ranges=undercut,
+        **curve_extremes(theta, dense.pitch.radius, dense.working.radius, geom.folds,
+                         dense.pressure_angle, dense.segment, segment_count),
     )
 
 

@@ -48,24 +48,17 @@ def linear_numbers(geom: LinearGeometry, segment_count: int) -> LinearNumbers:
     within = (working.theta >= 0.0) & (working.theta < 2.0 * math.pi)
     undercut = merge([*ranges_deg(theta, geom.folds),
                       *ranges_deg(working.theta[within], geom.cut[within])])
-    pitch_convex, pitch_concave, convex, concave, pressure, per_segment = curve_extremes(
-        theta, dense.pitch.radius, dense.working.radius, geom.folds, dense.pressure_angle,
-        dense.segment, segment_count)
     return LinearNumbers(
         max_height_mm=float(np.max(geom.outline_points()[:, 1])),
-        pitch_min_convex=pitch_convex,
-        pitch_min_concave=pitch_concave,
-        profile_min_convex=convex,
-        profile_min_concave=concave,
-        pressure_angle=pressure,
-        segment_pressure=per_segment,
         undercut_ranges=undercut,
+        **curve_extremes(theta, dense.pitch.radius, dense.working.radius, geom.folds,
+                         dense.pressure_angle, dense.segment, segment_count),
     )
 
 
-def travel_mm(stroke: float, angle_deg: float | None) -> float | None:
-    """The travel (mm) at a cycle angle (deg)."""
-    return None if angle_deg is None else angle_deg / 360.0 * stroke
+def travel_mm(stroke: float, angle_deg: float) -> float:
+    """The travel (mm) at a cycle angle (deg): a stroke is 360°."""
+    return angle_deg / 360.0 * stroke
 
 
 def where_travel(stroke: float, ranges: tuple[Range, ...]) -> str:
@@ -74,7 +67,7 @@ def where_travel(stroke: float, ranges: tuple[Range, ...]) -> str:
         return where(ranges)
     parts = []
     for a, b in ranges:
-        mm_a, mm_b = a / 360.0 * stroke, b / 360.0 * stroke
+        mm_a, mm_b = travel_mm(stroke, a), travel_mm(stroke, b)
         if fmt(a) == fmt(b):
             parts.append(f"{fmt(a)}° (travel {fmt(mm_a)} mm)")
         else:
@@ -84,7 +77,7 @@ def where_travel(stroke: float, ranges: tuple[Range, ...]) -> str:
 
 def _at(stroke: float, at_deg: float | None) -> str:
     deg = at_deg or 0.0
-    return f"{fmt(deg)}° (travel {fmt(deg / 360.0 * stroke)} mm)"
+    return f"{fmt(deg)}° (travel {fmt(travel_mm(stroke, deg))} mm)"
 
 
 def pressure_angle_finding(design: Design, geom: LinearGeometry,
@@ -237,7 +230,7 @@ def linear_report_geometry(analysis: Analysis) -> dict[str, Any]:
     rpm = design.cam.speed_rpm
 
     def at_mm(extreme_: Extreme) -> float | None:
-        return travel_mm(stroke, extreme_.at_deg)
+        return None if extreme_.at_deg is None else travel_mm(stroke, extreme_.at_deg)
 
     return {
         "stroke_mm": stroke,
@@ -265,7 +258,7 @@ def linear_report_geometry(analysis: Analysis) -> dict[str, Any]:
         "pressure_angle_limit_deg": math.degrees(design.pressure_angle_limit),
         "undercut": geom.undercut,
         "undercut_ranges_deg": [list(r) for r in numbers.undercut_ranges],
-        "undercut_ranges_mm": [[a / 360.0 * stroke, b / 360.0 * stroke]
+        "undercut_ranges_mm": [[travel_mm(stroke, a), travel_mm(stroke, b)]
                                for a, b in numbers.undercut_ranges],
         "profile_points": len(geom.outline.vertices),
         "sampling_tolerance_mm": geom.tolerance,
