@@ -1,5 +1,4 @@
-"""The report's drawings and diagrams as inline SVG, drawn with matplotlib's object-oriented API
-and its SVG backend (no pyplot: its start-up costs more than the drawing).
+"""The report's drawings and diagrams as inline SVG, drawn by :mod:`camfab.export.chart`.
 
 Every figure is a function of the analysis returning SVG text (no XML header), ready to paste
 into the HTML page. Lengths are millimetres and angles degrees.
@@ -7,15 +6,17 @@ into the HTML page. Lengths are millimetres and angles degrees.
 
 from __future__ import annotations
 
-import io
 import math
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
+from camfab.export.chart import Axes, Figure
 from camfab.motion.program import cycle_angles
 
 if TYPE_CHECKING:
+    from camfab.geometry.disc_geometry import DiscGeometry
+    from camfab.geometry.linear import LinearGeometry
     from camfab.pipeline import Analysis
 
 #: Cam-angle step of the diagrams: 0.5° draws every feature a reader can see.
@@ -28,14 +29,10 @@ CUT, PITCH, REFERENCE, BAD, FOLLOWER, WARN = ("#c0392b", "#2c5aa0", "#999999", "
 POCKET, CHANGE = "#8e44ad", "#0e6e8c"
 
 
-def new_figure(width_in: float, height_in: float, **margins: float) -> Any:
-    """A figure with fixed margins (a layout engine would draw every figure twice)."""
-    from matplotlib.figure import Figure
-
-    fig = Figure(figsize=(width_in, height_in))
-    fig.subplots_adjust(**{"left": 0.1, "right": 0.98, "top": 0.93, "bottom": 0.1,
-                           "hspace": 0.12, **margins})
-    return fig
+def new_figure(width_in: float, height_in: float, name: str, **margins: float) -> Figure:
+    """A figure of the given size (inches) with fixed margins (fractions of the figure);
+    *name* prefixes its SVG ids, unique on a page."""
+    return Figure(width_in, height_in, name, **margins)
 
 
 def _thin(*arrays: np.ndarray) -> list[np.ndarray]:
@@ -44,56 +41,40 @@ def _thin(*arrays: np.ndarray) -> list[np.ndarray]:
     return [a[..., ::10] for a in arrays]
 
 
-def angle_axis(*axes: Any) -> None:
-    """Cam angle from 0 to 360° with a tick every 60°, and few ticks on the values: every tick is
-    a handful of artists, and ticks are most of the time matplotlib takes here."""
-    from matplotlib.ticker import FixedLocator, MaxNLocator, NullLocator
-
+def angle_axis(*axes: Axes) -> None:
+    """Cam angle from 0 to 360° with a tick every 60° on the bottom panel (the segment lines
+    run through all), and at most four intervals on the values."""
     for ax in axes:
         ax.set_xlim(0, 360)
-        # only the bottom plot carries the angle ticks; the segment lines run through all
-        ax.xaxis.set_major_locator(FixedLocator(list(range(0, 361, 60))) if ax is axes[-1]
-                                   else NullLocator())
-        ax.yaxis.set_major_locator(MaxNLocator(nbins=4))
+        ax.set_xticks(range(0, 361, 60) if ax is axes[-1] else [])
+        ax.set_bins(y=4)
 
 
-def svg_text(fig: Any) -> str:
-    import matplotlib
-    from matplotlib.backends.backend_svg import FigureCanvasSVG
-
-    FigureCanvasSVG(fig)
-    out = io.StringIO()
-    # text stays text in the SVG (smaller and faster than outlined glyphs); stable ids
-    with matplotlib.rc_context({"svg.fonttype": "none", "svg.hashsalt": "camfab"}):
-        fig.savefig(out, format="svg", metadata={"Date": None})
-    text = out.getvalue()
-    text = text[text.index("<svg"):]
-    # the page does not need the file's RDF metadata block
-    start, end = text.find("<metadata>"), text.find("</metadata>")
-    if start >= 0 and end > start:
-        text = text[:start] + text[end + len("</metadata>"):]
-    return text
+def svg_text(fig: Figure) -> str:
+    """The figure as inline SVG text."""
+    return fig.svg()
 
 
-def _segment_marks(ax: Any, analysis: Analysis, labels: bool) -> None:
+def _segment_marks(ax: Axes, analysis: Analysis, labels: bool) -> None:
     """Segment boundaries as vertical lines, with the laws written above the top plot."""
     for seg in analysis.program.segments:
         ax.axvline(math.degrees(seg.start), color=REFERENCE, linewidth=0.6, linestyle=":")
         if labels:
             name = seg.kind if seg.kind == "dwell" else f"{seg.kind}: {seg.law_name}"
             ax.text(math.degrees(seg.start + seg.span / 2), 1.02, name, ha="center",
-                    va="bottom", fontsize=7, transform=ax.get_xaxis_transform())
+                    va="bottom", fontsize=7, y_in_axes=True)
 
 
 def diagrams(analysis: Analysis) -> str:
     """One figure of the cycle, panel under panel on a shared cam-angle axis: s, v, a and j (per
     radian of cam angle without a speed), the pressure angle against its limit, the radii of
     curvature against the follower's, and with dynamics the contact force and camshaft torque.
-    (One figure, not three: each costs matplotlib a fixed share of the report's time.)"""
+    """
     rows = 8 if has_dynamics(analysis) else 6
-    fig = new_figure(9.0, 1.45 * rows + 0.6, left=0.11, top=1 - 0.3 / (1.45 * rows + 0.6),
-                  bottom=0.45 / (1.45 * rows + 0.6))
-    axes = list(fig.subplots(rows, 1, sharex=True))
+    height = 1.45 * rows + 0.6
+    fig = new_figure(9.0, height, "diagrams", left=0.11, top=1 - 0.3 / height,
+                     bottom=0.45 / height)
+    axes = fig.subplots(rows, sharex=True)
     _motion_panels(analysis, axes[:4])
     _pressure_panels(analysis, axes[4], axes[5])
     if rows == 8:
@@ -110,7 +91,7 @@ def has_dynamics(analysis: Analysis) -> bool:
     return dyn is not None and dyn.force_N is not None and dyn.torque_N_m is not None
 
 
-def _motion_panels(analysis: Analysis, axes: list[Any]) -> None:
+def _motion_panels(analysis: Analysis, axes: list[Axes]) -> None:
     theta = cycle_angles(DIAGRAM_STEP)
     units = analysis.units
     omega = analysis.design.cam.omega
@@ -132,7 +113,7 @@ def _motion_panels(analysis: Analysis, axes: list[Any]) -> None:
         ax.axhline(0.0, color=REFERENCE, linewidth=0.5)
 
 
-def _pressure_panels(analysis: Analysis, top: Any, bottom: Any) -> None:
+def _pressure_panels(analysis: Analysis, top: Axes, bottom: Axes) -> None:
     limit = math.degrees(analysis.design.pressure_angle_limit)
     geom, dense = analysis.geometry, analysis.drum
     if analysis.linear is not None:
@@ -178,7 +159,7 @@ def clip_radii(radius: np.ndarray) -> np.ndarray:
     return np.where(np.abs(radius) <= cap, radius, np.nan)
 
 
-def _dynamics_panels(analysis: Analysis, top: Any, bottom: Any) -> None:
+def _dynamics_panels(analysis: Analysis, top: Axes, bottom: Axes) -> None:
     dyn = analysis.dynamics
     assert dyn is not None and dyn.force_N is not None and dyn.torque_N_m is not None
     theta, force, static, torque = _thin(np.degrees(dyn.theta), dyn.force_N, dyn.static_N,
@@ -218,8 +199,8 @@ def _disc_drawing(analysis: Analysis) -> str:
     geom = analysis.geometry
     assert geom is not None
     fol = geom.cam.follower
-    fig = new_figure(6.4, 6.4, left=0.12, bottom=0.08)
-    ax = fig.subplots()
+    fig = new_figure(6.4, 6.4, "drawing", left=0.12, bottom=0.08)
+    [ax] = fig.subplots()
     ax.set_aspect("equal")
     if analysis.groove is not None:
         _draw_groove(ax, analysis)
@@ -250,7 +231,7 @@ def _disc_drawing(analysis: Analysis) -> str:
     return svg_text(fig)
 
 
-def _draw_groove(ax: Any, analysis: Analysis) -> None:
+def _draw_groove(ax: Axes, analysis: Analysis) -> None:
     """A groove cam's plate: its outer circle, the groove shaded between its walls, where a
     wall folds, and a tick across the groove wherever contact passes to the other wall."""
     from camfab.geometry.curves import perp
@@ -283,10 +264,10 @@ def _draw_groove(ax: Any, analysis: Analysis) -> None:
         label = (f"{walls.contact.changes_deg[k]:.4g}°: onto the "
                  f"{WALL_NAMES[int(walls.contact.onto[k])]} wall")
         tip = centre - 2.0 * step * np.sign(float(np.dot(step, centre)) or 1.0)  # toward the centre
-        ax.annotate(label, tuple(tip), fontsize=7, color=CHANGE, ha="center", va="center")
+        ax.text(float(tip[0]), float(tip[1]), label, fontsize=7, color=CHANGE)
 
 
-def mark_failures(ax: Any, analysis: Analysis, geom: Any) -> None:
+def mark_failures(ax: Axes, analysis: Analysis, geom: DiscGeometry | LinearGeometry) -> None:
     """Dots on the profile of *geom* (a disc or linear cam's geometry) where the pressure angle
     is over the limit and where the envelope is undercut."""
     dense = geom.dense
@@ -300,7 +281,7 @@ def mark_failures(ax: Any, analysis: Analysis, geom: Any) -> None:
         ax.plot(cut[:, 0], cut[:, 1], ".", color=BAD, markersize=2, label="undercut")
 
 
-def _draw_follower(ax: Any, analysis: Analysis) -> None:
+def _draw_follower(ax: Axes, analysis: Analysis) -> None:
     """The follower at θ = 0 (the cam frame and the fixed frame coincide there)."""
     geom = analysis.geometry
     assert geom is not None
@@ -330,7 +311,7 @@ def _draw_follower(ax: Any, analysis: Analysis) -> None:
     ax.plot([trace[0]], [trace[1]], ".", color=FOLLOWER)
 
 
-def _draw_partner(ax: Any, analysis: Analysis) -> None:
+def _draw_partner(ax: Axes, analysis: Analysis) -> None:
     """What holds the follower on the other side, at θ = 0: a conjugate pair's cam b (turned
     into the frame it is made in) with its roller, or a yoke's other face or roller."""
     partner, geom = analysis.partner, analysis.geometry
@@ -371,8 +352,8 @@ def _drum_drawing(analysis: Analysis) -> str:
     assert dense is not None
     d = dense.drum
     dev = development(d, analysis.program, 0.01)
-    fig = new_figure(9.0, 3.6, bottom=0.14)
-    ax = fig.subplots()
+    fig = new_figure(9.0, 3.6, "drawing", bottom=0.14)
+    [ax] = fig.subplots()
     ax.set_aspect("equal")
     ax.plot([0, dev.width, dev.width, 0, 0], [0, 0, dev.height, dev.height, 0],
             color=REFERENCE, linewidth=0.7)

@@ -1,15 +1,15 @@
-"""The inspection report's figures as inline SVG, drawn like the build report's (``figures``):
-matplotlib's object-oriented API and SVG backend, lengths in mm, angles in degrees.
+"""The inspection report's figures as inline SVG, drawn like the build report's (``figures``,
+through :mod:`camfab.export.chart`), lengths in mm, angles in degrees.
 """
 
 from __future__ import annotations
 
 import math
-from typing import Any
 
 import numpy as np
 
 from camfab.analysis.inspection import Inspection
+from camfab.export.chart import Axes
 from camfab.export.figures import (
     BAD,
     CUT,
@@ -34,8 +34,8 @@ _THIN = 5
 def outline_drawing(ins: Inspection, title: str) -> str:
     """The outline as inspected (centred, turned into phase when aligned) at θ = 0 with the
     design's cam over it, the follower, and where the deviation exceeds the tolerance."""
-    fig = new_figure(9.0, 6.4, left=0.09, right=0.68, bottom=0.08)
-    ax = fig.subplots()
+    fig = new_figure(9.0, 6.4, "outline", left=0.09, right=0.68, bottom=0.08)
+    [ax] = fig.subplots()
     ax.set_aspect("equal")
     ring = _ring(ins.profile.points(0.01))
     ax.fill(ring[:, 0], ring[:, 1], color="#f4d6d2", zorder=0)
@@ -62,14 +62,14 @@ def outline_drawing(ins: Inspection, title: str) -> str:
                 label=f"largest deviation (θ = {math.degrees(ins.theta[k]):.4g}°)")
     _draw_follower(ax, ins)
     ax.plot([0], [0], "+", color="black", markersize=10)
-    ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.03, 0.5))
+    ax.legend(fontsize=7, outside_right=True)
     ax.set_title(title, fontsize=9)
     ax.set_xlabel("x (mm)")
     ax.set_ylabel("y (mm)")
     return svg_text(fig)
 
 
-def _magnified(ax: Any, ins: Inspection) -> None:
+def _magnified(ax: Axes, ins: Inspection) -> None:
     """The deviation drawn at the contact points, magnified radially by a round factor so its
     largest value shows as about a tenth of the cam's size."""
     assert ins.deviation_mm is not None
@@ -89,7 +89,7 @@ def _ring(points: np.ndarray) -> np.ndarray:
     return np.vstack((points, points[:1]))
 
 
-def _draw_follower(ax: Any, ins: Inspection) -> None:
+def _draw_follower(ax: Axes, ins: Inspection) -> None:
     """The follower at θ = 0, where the outline as drawn meets it."""
     fol = ins.setup.follower
     height = float(ins.position[0])
@@ -131,8 +131,9 @@ def diagrams(ins: Inspection) -> str:
     with_design = ins.deviation_mm is not None
     rows = 6 if with_design else 5
     height = 1.45 * rows + 0.6
-    fig = new_figure(9.0, height, left=0.11, top=1 - 0.3 / height, bottom=0.45 / height)
-    axes = list(fig.subplots(rows, 1, sharex=True))
+    fig = new_figure(9.0, height, "diagrams", left=0.11, top=1 - 0.3 / height,
+                     bottom=0.45 / height)
+    axes = fig.subplots(rows, sharex=True)
     degrees = np.degrees(ins.theta)
     thin = slice(None, None, _THIN)
     lift_unit = "deg" if ins.oscillating else "mm"
@@ -180,7 +181,7 @@ def diagrams(ins: Inspection) -> str:
     return svg_text(fig)
 
 
-def _deviation_panel(ax: Any, ins: Inspection, degrees: np.ndarray) -> None:
+def _deviation_panel(ax: Axes, ins: Inspection, degrees: np.ndarray) -> None:
     assert ins.deviation_mm is not None
     deviation = ins.deviation_mm
     ax.plot(degrees, deviation, color=CUT, linewidth=0.8, label="measured − design")

@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING, Any
 from camfab import __version__
 from camfab.analysis.findings import Finding, count
 from camfab.analysis.inspection import Inspection
-from camfab.export.report_html import num, where
+from camfab.export.report_html import num, page_template, where
 
 if TYPE_CHECKING:
     from camfab.inspection import Prepared
@@ -41,14 +41,10 @@ def _numbers(data: dict[str, Any]) -> list[tuple[str, str]]:
 
 def render_inspection_html(ins: Inspection, prepared: Prepared) -> bytes:
     """The report page as UTF-8 bytes."""
-    import jinja2
-
     from camfab.export import inspection_figures as figures
     from camfab.export.inspection_json import inspection_dict
 
     data = inspection_dict(ins, prepared)
-    env = jinja2.Environment(loader=jinja2.PackageLoader("camfab", "templates"),
-                             autoescape=True, trim_blocks=True, lstrip_blocks=True)
     fol = ins.setup.follower
     follower = (f"{'oscillating' if fol.oscillating else 'translating'} {fol.contact} follower"
                 + (f" (radius {fol.radius:.4g} mm)" if fol.radius > 0 else ""))
@@ -80,7 +76,7 @@ def render_inspection_html(ins: Inspection, prepared: Prepared) -> bytes:
               ("derivatives", data["method"]["derivatives"])]
     if ins.reference is not None:
         method.append(("design motion", ins.reference.source))
-    page = env.get_template("inspection.html.j2").render(
+    page = page_template("inspection.html.j2").render(
         version=__version__, name=name, description=f"inspection of {name}: {follower}",
         verdict=verdict, state=state, summary=summary,
         findings=_finding_rows(ins.findings),

@@ -1,5 +1,5 @@
 """The report's figures of a linear cam: the plate at travel 0 with its follower, and the pressure
-angle and radii of curvature over the cycle (inline SVG through :mod:`camfab.export.figures`).
+angle and radii of curvature over the cycle (inline SVG through :mod:`camfab.export.chart`).
 
 Lengths are millimetres; the cycle angle is degrees (360° is one stroke).
 """
@@ -7,10 +7,11 @@ Lengths are millimetres; the cycle angle is degrees (360° is one stroke).
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
+from camfab.export.chart import Axes
 from camfab.export.figures import (
     BAD,
     CUT,
@@ -38,8 +39,8 @@ def linear_drawing(analysis: Analysis) -> str:
     height = float(outline[:, 1].max()) + 2.5 * cam.radius + 0.25 * cam.base_height
     size = min(10.0, max(6.0, 0.04 * width))
     fig = new_figure(size, max(2.6, size * (height + 0.3 * cam.base_height) / width * 1.15),
-                     left=0.07, right=0.98, bottom=0.2, top=0.88)
-    ax = fig.subplots()
+                     "drawing", left=0.07, right=0.98, bottom=0.2, top=0.88)
+    [ax] = fig.subplots()
     ax.set_aspect("equal")
     ring = np.vstack((outline, outline[:1]))
     ax.fill(ring[:, 0], ring[:, 1], color="#f4d6d2", zorder=0)
@@ -60,9 +61,8 @@ def linear_drawing(analysis: Analysis) -> str:
     ax.plot([0.0, 0.0], [trace, stem], color=FOLLOWER, linewidth=1.5,
             label=None if cam.radius > 0.0 else "knife at travel 0")
     ax.plot([0.0], [trace], ".", color=FOLLOWER)
-    ax.annotate("", xy=(0.2 * width - cam.overhang, -0.12 * cam.base_height),
-                xytext=(0.4 * width - cam.overhang, -0.12 * cam.base_height),
-                arrowprops={"arrowstyle": "->", "color": REFERENCE})
+    ax.arrow((0.4 * width - cam.overhang, -0.12 * cam.base_height),
+             (0.2 * width - cam.overhang, -0.12 * cam.base_height), color=REFERENCE)
     ax.text(0.3 * width - cam.overhang, -0.2 * cam.base_height, "the plate moves toward −X",
             ha="center", va="top", fontsize=7, color="#555555")
     ax.set_ylim(-0.45 * cam.base_height, height)
@@ -73,7 +73,7 @@ def linear_drawing(analysis: Analysis) -> str:
     return svg_text(fig)
 
 
-def linear_pressure_panels(analysis: Analysis, top: Any, bottom: Any) -> None:
+def linear_pressure_panels(analysis: Analysis, top: Axes, bottom: Axes) -> None:
     """The signed pressure angle, and the pitch and profile radii of curvature, over the cycle."""
     geom = analysis.linear
     assert geom is not None

@@ -8,12 +8,15 @@ The figures are inline SVG (``figures``), so the page works offline.
 
 from __future__ import annotations
 
+from functools import cache
 from typing import TYPE_CHECKING, Any
 
 from camfab import __version__
 from camfab.analysis.findings import count
 
 if TYPE_CHECKING:
+    import jinja2
+
     from camfab.design import Design
     from camfab.pipeline import Analysis
 
@@ -114,23 +117,30 @@ def _motion_of(design: Design) -> str:
     return "moving toward −X" if design.cam.linear else design.cam.rotation
 
 
-def render_report_html(analysis: Analysis) -> bytes:
-    """The report page as UTF-8 bytes."""
+@cache
+def page_template(name: str) -> jinja2.Template:
+    """The page template *name* of the package, compiled once per process (compiling costs a
+    build more than filling it in)."""
     import jinja2
 
+    env = jinja2.Environment(loader=jinja2.PackageLoader("camfab", "templates"),
+                             autoescape=True, trim_blocks=True, lstrip_blocks=True)
+    return env.get_template(name)
+
+
+def render_report_html(analysis: Analysis) -> bytes:
+    """The report page as UTF-8 bytes."""
     from camfab.export import figures
     from camfab.export.report_json import report_data
 
     report = report_data(analysis)
-    env = jinja2.Environment(loader=jinja2.PackageLoader("camfab", "templates"),
-                             autoescape=True, trim_blocks=True, lstrip_blocks=True)
     errors, warnings = count(analysis.findings, "error"), count(analysis.findings, "warning")
     design = analysis.design
     head, rows = _segments(report)
     key_head, key_rows = _key_points(report)
     follower = f"{design.follower.motion} {design.follower.type} follower"
     kind = "drum cam" if design.cam.type == "cylindrical" else f"{design.cam.type} cam"
-    page = env.get_template("report.html.j2").render(
+    page = page_template("report.html.j2").render(
         version=__version__, name=design.name,
         description=design.description or f"{kind}, {follower}",
         exit_code=analysis.exit_code,

@@ -1,0 +1,131 @@
+"""The reports' SVG charts: ticks against matplotlib's MaxNLocator, the data drawn where its
+limits put it (read back with an independent SVG path reader), equal aspect, broken lines,
+escaped text, unique ids on a page, and the same bytes for the same figure."""
+
+from __future__ import annotations
+
+import math
+import xml.etree.ElementTree as ET
+
+import numpy as np
+import pytest
+from hypothesis import assume, given, settings
+from hypothesis import strategies as st
+
+from camfab.export.chart import Figure, nice_ticks, tick_labels
+
+NS = "{http://www.w3.org/2000/svg}"
+
+
+def _paths(svg: str, **attrs: str) -> list[ET.Element]:
+    root = ET.fromstring(svg)
+    return [p for p in root.iter(f"{NS}path")
+            if all(p.get(k) == v for k, v in attrs.items())]
+
+
+def _points(d: str) -> np.ndarray:
+    from svgelements import Path as SvgPath
+
+    path = SvgPath(d)
+    return np.array([[seg.end.x, seg.end.y] for seg in path if seg.end is not None])
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.floats(-1e7, 1e7), st.floats(1e-6, 1e7), st.integers(2, 9))
+def test_ticks_match_matplotlib(low: float, span: float, bins: int) -> None:
+    """The ticks inside the range are those of matplotlib's MaxNLocator with the same steps
+    (away from spans that are a nice step times the bins to within rounding, where either
+    choice is right)."""
+    from matplotlib.ticker import MaxNLocator
+
+    high = low + span
+    raw = (high - low) / bins
+    mantissa = raw / 10.0 ** math.floor(math.log10(raw))
+    assume(all(abs(mantissa - s) > 1e-6 * s for s in (1.0, 2.0, 2.5, 5.0, 10.0)))
+    ticks = nice_ticks(low, high, bins)
+    reference = MaxNLocator(nbins=bins, steps=[1, 2, 2.5, 5, 10]).tick_values(low, high)
+    step = float(reference[1] - reference[0])
+    # away from a tick at an end of the range to within rounding, too
+    assume(not np.any(np.isclose(reference[:, None], [low, high], rtol=0.0, atol=1e-6 * step)))
+    reference = reference[(reference >= low) & (reference <= high)]
+    assert ticks.size == reference.size
+    np.testing.assert_allclose(ticks, reference, rtol=1e-9, atol=1e-9 * span)
+
+
+def test_tick_labels_use_the_decimals_of_the_step_and_a_factor_for_extremes() -> None:
+    assert tick_labels(np.array([-50.0, -25.0, 0.0, 25.0])) == (["−50", "−25", "0", "25"], "")
+    assert tick_labels(np.array([0.0, 2.5, 5.0])) == (["0.0", "2.5", "5.0"], "")
+    assert tick_labels(np.array([-1e6, 0.0, 1e6])) == (["−1", "0", "1"], "×10⁶")
+    assert tick_labels(np.array([0.0, 1e-5, 2e-5])) == (["0", "1", "2"], "×10⁻⁵")
+
+
+def test_a_line_lands_where_its_limits_put_it() -> None:
+    fig = Figure(4.0, 3.0, "t", left=0.25, right=0.75, top=0.8, bottom=0.2)
+    [ax] = fig.subplots()
+    ax.set_xlim(0.0, 10.0)
+    ax.set_ylim(-5.0, 5.0)
+    ax.plot([0.0, 10.0, 5.0], [-5.0, 5.0, 0.0], color="#123456")
+    svg = fig.svg()
+    [line] = _paths(svg, stroke="#123456")
+    points = _points(line.get("d") or "")
+    # the box: 72 pt per inch, y down in SVG
+    left, right = 0.25 * 288.0, 0.75 * 288.0
+    top, bottom = 0.2 * 216.0, 0.8 * 216.0
+    np.testing.assert_allclose(points, [[left, bottom], [right, top],
+                                        [(left + right) / 2, (top + bottom) / 2]], atol=0.01)
+    root = ET.fromstring(svg)
+    assert root.get("width") == "288.00pt" and root.get("viewBox") == "0 0 288.00 216.00"
+
+
+def test_nan_breaks_a_line_and_autoscale_ignores_it() -> None:
+    fig = Figure(4.0, 3.0, "t")
+    [ax] = fig.subplots()
+    ax.plot([0.0, 1.0, 2.0, 3.0, 4.0], [0.0, 1.0, np.nan, 3.0, 4.0], color="#abcdef")
+    (x0, x1), (y0, y1) = ax.limits()
+    assert (x0, x1) == pytest.approx((-0.2, 4.2)) and (y0, y1) == pytest.approx((-0.2, 4.2))
+    [line] = _paths(fig.svg(), stroke="#abcdef")
+    assert (line.get("d") or "").count("M") == 2
+
+
+def test_equal_aspect_draws_a_circle_round() -> None:
+    fig = Figure(6.0, 3.0, "t")
+    [ax] = fig.subplots()
+    ax.set_aspect("equal")
+    angle = np.linspace(0.0, 2.0 * math.pi, 721)
+    ax.plot(10.0 * np.cos(angle), 10.0 * np.sin(angle), color="#0000ff")
+    [line] = _paths(fig.svg(), stroke="#0000ff")
+    points = _points(line.get("d") or "")
+    width, height = np.ptp(points[:, 0]), np.ptp(points[:, 1])
+    assert width == pytest.approx(height, rel=1e-3)
+
+
+def test_text_is_escaped_ids_are_per_figure_and_bytes_repeat() -> None:
+    def page() -> str:
+        figures = []
+        for name in ("drawing", "diagrams"):
+            fig = Figure(4.0, 3.0, name)
+            axes = fig.subplots(2, sharex=True)
+            for ax in axes:
+                ax.plot([0, 1], [0, 1], color="#000000", label="a < b & c")
+                ax.legend()
+            axes[0].set_title("x < 1")
+            figures.append(fig.svg())
+        return "".join(figures)
+
+    first = page()
+    assert first == page()
+    ids = [e.get("id") for svg in first.split("</svg>")[:-1]
+           for e in ET.fromstring(svg + "</svg>").iter() if e.get("id")]
+    assert len(ids) == 4 and len(set(ids)) == 4
+    assert "a &lt; b &amp; c" in first and "x &lt; 1" in first
+
+
+def test_only_the_bottom_panel_labels_a_shared_axis() -> None:
+    fig = Figure(4.0, 4.0, "t")
+    axes = fig.subplots(3, sharex=True)
+    for k, ax in enumerate(axes):
+        ax.plot([0.0, 360.0], [0.0, k + 1.0])
+        ax.set_xticks([0, 120, 240, 360])
+    root = ET.fromstring(fig.svg())
+    labels = [t.text for t in root.iter(f"{NS}text")]
+    assert labels.count("120") == 1 and labels.count("240") == 1
