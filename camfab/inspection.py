@@ -184,21 +184,24 @@ def prepare(options: InspectOptions) -> Prepared:
 def _follower_file(path: Path) -> dict[str, Any]:
     """A follower file: the keys of a design's ``follower:`` section, at the top or under
     ``follower:``, and optionally ``units``, ``rotation``, ``speed_rpm``, ``tolerance``."""
-    import yaml
-
-    from camfab.errors import did_you_mean
+    from camfab.design.source import MAX_DESIGN_BYTES, compose_yaml
+    from camfab.errors import DesignError, did_you_mean
 
     name = str(path)
     try:
-        data = yaml.safe_load(path.read_text(encoding="utf-8"))
+        raw = path.read_bytes()
+        if len(raw) > MAX_DESIGN_BYTES:
+            raise InspectionError(name, f"is {len(raw):,} bytes; a follower file is at most "
+                                  f"{MAX_DESIGN_BYTES:,}")
+        # read as a design is, within the same limits of size, depth and aliases
+        _, data, _ = compose_yaml(raw.decode("utf-8-sig"), name)
     except FileNotFoundError:
         raise InspectionError(name, "no such file") from None
     except (OSError, UnicodeDecodeError) as exc:
         raise InspectionError(name, f"cannot be read ({exc})") from None
-    except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        where = f"{name}:{mark.line + 1}" if mark is not None else name
-        raise InspectionError(where, "is not valid YAML") from None
+    except DesignError as exc:
+        line = exc.location.line if exc.location is not None else None
+        raise InspectionError(f"{name}:{line}" if line else name, exc.problem) from None
     if not isinstance(data, dict):
         raise InspectionError(name, "must be a mapping of follower keys (type, roller_radius, "
                               "offset, ...)")

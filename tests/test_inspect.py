@@ -352,3 +352,23 @@ def test_oscillating_follower_from_the_command_line(built, tmp_path: Path) -> No
     assert report["follower"]["motion"] == "oscillating"
     # the published swing of seed 10.3: 28°
     assert np.max(table["lift_deg"]) == pytest.approx(28.0, abs=0.01)
+
+
+@pytest.mark.parametrize(("text", "said"), [
+    # an alias bomb: a billion values from a few lines
+    ("a: &a [1,1,1,1,1,1,1,1,1,1]\n" + "".join(
+        f"{n}: &{n} [{','.join(['*' + p] * 10)}]\n" for p, n in zip("abcdefgh", "bcdefghi")),
+     "expand to more than 100,000 values"),
+    ("[" * 100_000, "nested too deeply"),
+    ("type: [roller\n", "invalid YAML"),
+    ("type: roller\nroller_radius: 5\nroller_radius: 6\n", "roller_radius"),
+])
+def test_a_follower_file_is_read_within_the_design_limits(built, tmp_path: Path, text: str,
+                                                         said: str) -> None:
+    """A follower file is refused, quickly and on its line, where a design would be."""
+    folder, _ = built
+    (tmp_path / "dial.yaml").write_text(text)
+    code, _, _, err = _inspect(tmp_path, folder / "seed-10-4.dxf",
+                               "--follower", str(tmp_path / "dial.yaml"))
+    assert code == 2 and said in err and "dial.yaml" in err and len(err.splitlines()) == 1
+    assert not (tmp_path / "out").exists()

@@ -102,6 +102,28 @@ def read_design_file(path: str | Path) -> SourceDocument:
 
 def parse_yaml(text: str, file: str = "<design>", folder: Path = Path(".")) -> SourceDocument:
     """Parse YAML *text* into a :class:`SourceDocument`."""
+    root, data, lines = compose_yaml(text, file)
+    if root is None:
+        raise DesignError("the design file is empty", location=Location(file, 1, ""))
+    if not isinstance(data, dict):
+        raise DesignError(
+            "a design must be a mapping of keys (name, cam, follower, motion, ...)",
+            location=Location(file, root.start_mark.line + 1, ""),
+            got=data,
+        )
+    return SourceDocument(file=file, data=data, lines=lines, folder=folder)
+
+
+def compose_yaml(text: str, file: str) -> tuple[yaml.Node | None, Any, dict[Path_, int]]:
+    """YAML *text* of the file *file* read within the limits (:data:`MAX_DEPTH`,
+    :data:`MAX_VALUES`, the tags of plain data): its root node (None when empty), its value,
+    and the line of every value by its key path.
+
+    Raises
+    ------
+    DesignError
+        The text is not YAML, or goes past a limit; the message names the line.
+    """
     try:
         _check_size(text, file)
         root = yaml.compose(text, Loader=_Loader)
@@ -119,16 +141,9 @@ def parse_yaml(text: str, file: str = "<design>", folder: Path = Path(".")) -> S
             location=Location(file, mark.line + 1 if mark else None, ""),
         ) from None
     if root is None:
-        raise DesignError("the design file is empty", location=Location(file, 1, ""))
+        return None, None, {}
     builder = _Builder(file)
-    data = builder.build(root, ())
-    if not isinstance(data, dict):
-        raise DesignError(
-            "a design must be a mapping of keys (name, cam, follower, motion, ...)",
-            location=Location(file, root.start_mark.line + 1, ""),
-            got=data,
-        )
-    return SourceDocument(file=file, data=data, lines=builder.lines, folder=folder)
+    return root, builder.build(root, ()), builder.lines
 
 
 def _check_size(text: str, file: str) -> None:
