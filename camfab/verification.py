@@ -197,7 +197,7 @@ def _verify_drum(analysis: Analysis) -> tuple[Verification, dict[str, bytes], di
     from camfab.export.svg import render_svg
     from camfab.geometry.arcfit import fit_arcs
     from camfab.geometry.disc_geometry import LiftCheck
-    from camfab.geometry.drum_mesh import development, groove_lift, groove_tube
+    from camfab.geometry.drum_mesh import development, groove_lift, groove_tube, row_points
     from camfab.geometry.plate import Contours
     from camfab.geometry.sampling import SAMPLING_SHARE
     from camfab.motion.program import cycle_angles
@@ -212,7 +212,8 @@ def _verify_drum(analysis: Analysis) -> tuple[Verification, dict[str, bytes], di
     if folded:
         # the inner wall folds over itself: no solid a roller could run in. The roller is run
         # between the exact walls as computed, to show how far the fold would throw it.
-        vertices = groove_tube(d, program, tolerance).vertices
+        tube = groove_tube(d, program, tolerance)
+        vertices, faces = tube.vertices, tube.faces
         stl_check = None
         withheld["stl"] = ("the groove folds over itself (see the groove check): there is no "
                            "solid a roller could run in")
@@ -223,13 +224,16 @@ def _verify_drum(analysis: Analysis) -> tuple[Verification, dict[str, bytes], di
         mesh = read_stl(stl)
         stl_check = check_stl(stl, volume, design.manufacturing.tolerance * area, mesh)
         vertices = np.asarray(mesh.vertices, dtype=np.float64)
+        faces = np.asarray(mesh.faces)
         files["stl"] = stl
         source = (f"the roller run through the groove of {design.name}.stl read back (between "
-                  f"its wall vertices)")
-    # the roller run between the wall vertices found
+                  f"its wall rows)")
+    # the roller run between the wall vertices found, and points along the rows' edges between
+    # them no further apart than a quarter of the roller's radius
     theta = cycle_angles(DRUM_VERIFY_STEP)
     centre_z = d.start + program.evaluate(theta)[0]
-    low, high = groove_lift(d, vertices, theta, centre_z)
+    surface = row_points(d, vertices, faces, d.roller / 4.0)
+    low, high = groove_lift(d, surface, theta, centre_z)
     found = np.isfinite(low) & np.isfinite(high)  # the roller meets both walls
     error = np.full(theta.size, np.inf)
     error[found] = 0.5 * (low[found] + high[found]) - centre_z[found]

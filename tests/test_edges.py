@@ -1,6 +1,6 @@
 """Designs at the edges build with the same verified accuracy: a 2 mm cam and a 2 m one, inch
 units, a program of a thousand segments, an offset of a nanometre, a rise–return program with no
-dwell. Each must build every file, the follower run over its DXF read back must stay within the
+dwell, and a drum of 2.4 m with an 8 mm roller. Each must build every file, the follower run over its DXF read back must stay within the
 tolerance, its CUT outline must lie within the tolerance of the exact curve, and its STL must
 read back closed and of the part's volume.
 """
@@ -47,6 +47,29 @@ EDGES = {
                          "  - rise:   {angle: 180, lift: 20, law: cycloidal}\n"
                          "  - return: {angle: 180, law: cycloidal}\n"),
 }
+
+
+#: A drum 2.4 m across with an 8 mm roller: in its dwells one face of the mesh spans a degree,
+#: 21 mm of wall, far wider than the roller (the read-back check runs it over the wall rows).
+LARGE_DRUM = """name: large-drum
+cam: {type: cylindrical, speed_rpm: 20, radius: 1200, length: 70, groove_depth: 8, bore: 100}
+follower: {type: roller, roller_radius: 8, groove_clearance: 0.1}
+motion:
+  - rise:   {angle: 150, lift: 25, law: cycloidal}
+  - dwell:  {angle: 30}
+  - return: {angle: 150, law: cycloidal}
+  - dwell:  {angle: 30}
+"""
+
+
+def test_a_large_drum_reads_back_within_the_tolerance() -> None:
+    design = design_from_text(LARGE_DRUM)
+    analysis = render(analyse(design)).analysis
+    assert analysis is not None and analysis.verification is not None
+    check = analysis.verification
+    assert check.lift.max_mm <= design.manufacturing.tolerance
+    assert check.stl is not None and check.stl.ok
+    assert {f.id for f in analysis.findings if not f.ok} <= {"continuity"}
 
 
 @pytest.mark.parametrize("text", list(EDGES.values()), ids=list(EDGES))

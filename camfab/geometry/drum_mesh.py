@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from camfab.arrays import Array
+from camfab.arrays import Array, Mask
 from camfab.geometry.drum import ANALYSIS_STEP, Drum, polar_to_xy
 from camfab.motion.program import MotionProgram
 
@@ -163,18 +163,53 @@ def development(d: Drum, program: MotionProgram, tolerance: float) -> Developmen
                        unrolled(alpha, d.start + m[0]), 2.0 * math.pi * d.radius, d.length)
 
 
+def row_points(d: Drum, vertices: Array, faces: Array, spacing: float) -> Array:
+    """Points on the walls of a drum's mesh (mm): its vertices, and points along each edge that
+    runs round the drum at one radius between the floor and the surface (a wall row, from one
+    station to the next), at most *spacing* (mm) apart. In a dwell the wall is flat, and one
+    face may span a degree of the drum however large the drum is: wider than the roller, which
+    would find no vertex there.
+    (Edges across the rows, from the floor toward the surface, are left: the straight piece of
+    a twisted quad's diagonal strays further from the wall than the rows and stations do.)"""
+    radius = np.hypot(vertices[:, 0], vertices[:, 1])
+    # each edge of each face (an edge shared by two faces is taken twice: its points repeat,
+    # which changes no extreme); kept when both ends are one wall row (to the float32 of an
+    # STL) between the floor and the surface, not the drum's outer surface or its ends
+    edges = np.concatenate((faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]))
+    ra, rb = radius[edges[:, 0]], radius[edges[:, 1]]
+    edges = edges[np.isclose(ra, rb, rtol=1e-6, atol=0.0) & _inside(d, ra)]
+    start, end = vertices[edges[:, 0]], vertices[edges[:, 1]]
+    pieces = np.ceil(np.linalg.norm(end - start, axis=1) / spacing).astype(np.int64)
+    along = pieces > 1
+    if not along.any():
+        return vertices
+    count = pieces[along] - 1  # the points inside each edge
+    edge = np.repeat(np.flatnonzero(along), count)
+    # 1 … count for each edge, as a fraction of its pieces
+    k = np.arange(count.sum()) - np.repeat(np.cumsum(count) - count, count) + 1
+    f = (k / np.repeat(pieces[along], count))[:, None]
+    return np.vstack((vertices, start[edge] + f * (end[edge] - start[edge])))
+
+
+def _inside(d: Drum, r: Array) -> Mask:
+    """Radii (mm) strictly between the groove's floor and the drum's surface."""
+    return (r > d.root + 1e-3 * d.depth) & (r < d.radius - 1e-3 * d.depth)
+
+
 def groove_lift(d: Drum, vertices: Array, theta: Array, centre: Array) -> tuple[Array, Array]:
     """Run the roller through a groove given by mesh *vertices* (mm, as read back from a file):
     at each cam angle *theta* the lowest and highest heights (mm) its centre can take between the
     walls, from the wall vertices between the floor and the surface within its reach. *centre*
     (mm) is the design's height there, which tells the lower wall's vertices from the upper's.
 
-    A vertex lies on the roller's surface when its distance from the roller's axis is R: a
+    The vertices should be no further apart along the groove than a fraction of the roller's
+    width (see :func:`row_points`). A vertex lies on the roller's surface when its distance
+    from the roller's axis is R: a
     vertex at w = r sin(ϕ − α) across the axis keeps the centre at least √(R² − w²) above it
     (a vertex of the lower wall) or below it (of the upper wall).
     """
     r = np.hypot(vertices[:, 0], vertices[:, 1])
-    keep = (r > d.root + 1e-3 * d.depth) & (r < d.radius - 1e-3 * d.depth)
+    keep = _inside(d, r)
     pts, r = vertices[keep], r[keep]
     phi = np.arctan2(-pts[:, 0], pts[:, 1])
     order = np.argsort(phi)
