@@ -83,8 +83,11 @@ def test_nan_breaks_a_line_and_autoscale_ignores_it() -> None:
     ax.plot([0.0, 1.0, 2.0, 3.0, 4.0], [0.0, 1.0, np.nan, 3.0, 4.0], color="#abcdef")
     (x0, x1), (y0, y1) = ax.limits()
     assert (x0, x1) == pytest.approx((-0.2, 4.2)) and (y0, y1) == pytest.approx((-0.2, 4.2))
-    [line] = _paths(fig.svg(), stroke="#abcdef")
+    ax.axhline(float("inf"), color="#fedcba")  # a follower radius of a flat face, say
+    svg = fig.svg()
+    [line] = _paths(svg, stroke="#abcdef")
     assert (line.get("d") or "").count("M") == 2
+    assert not _paths(svg, stroke="#fedcba") and "inf" not in svg
 
 
 def test_equal_aspect_draws_a_circle_round() -> None:

@@ -168,21 +168,19 @@ def _markers(x: np.ndarray, y: np.ndarray, style: Style) -> str:
     r = size / 4.0 if style.marker == "." else size / 2.0
     xy = np.column_stack((x - r, y)).ravel().tolist()
     arc = f" a{_num(r)} {_num(r)} 0 1 0 {_num(2 * r)} 0 a{_num(r)} {_num(r)} 0 1 0 {_num(-2 * r)} 0"
-    d = ("M%.2f %.2f" + arc.replace("%", "%%") + " ") * x.size % tuple(xy)
+    d = ("M%.2f %.2f" + arc + " ") * x.size % tuple(xy)
     face = style.markerfacecolor or style.color
     return (f'<path d="{d.strip()}" fill="{face}" stroke="{edge}" '
             f'stroke-width="{_num(0.5 if style.marker == "." else 1.0)}"/>')
 
 
 def _text(x: float, y: float, text: str, size: float, color: str = "#000000",
-          anchor: str = "middle", baseline: str = "central", rotate: bool = False,
-          weight: str | None = None) -> str:
+          anchor: str = "middle", baseline: str = "central", rotate: bool = False) -> str:
     """A text element at (x, y) pt; several lines are stacked (left to right when rotated)."""
     lines = text.split("\n")
     turn = f' transform="rotate(-90 {_num(x)} {_num(y)})"' if rotate else ""
-    bold = f' font-weight="{weight}"' if weight else ""
     head = (f'<text x="{_num(x)}" y="{_num(y)}" font-size="{_num(size)}" fill="{color}" '
-            f'text-anchor="{anchor}" dominant-baseline="{baseline}"{bold}{turn}>')
+            f'text-anchor="{anchor}" dominant-baseline="{baseline}"{turn}>')
     if len(lines) == 1:
         return head + escape(text) + "</text>"
     leading = 1.2 * size
@@ -394,6 +392,9 @@ class Axes:
             d = _path(px(item.x), py(item.y))
             opacity = f' fill-opacity="{s.alpha:.3g}"' if s.alpha < 1.0 else ""
             return f'<path d="{d} Z" fill="{s.color}"{opacity} stroke="none"/>' if d else ""
+        if item.kind in ("hline", "vline") and not np.isfinite(item.x if item.kind == "vline"
+                                                                else item.y).all():
+            return ""
         if item.kind == "hline":
             y = float(py(item.y)[0])
             return (f'<path d="M{_num(left)} {_num(y)} L{_num(left + width)} {_num(y)}" '
