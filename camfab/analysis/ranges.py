@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from camfab.analysis.kinematics import degrees
-from camfab.arrays import Array, Mask
+from camfab.arrays import Array, Mask, runs
 
 Range = tuple[float, float]
 
@@ -20,10 +20,7 @@ def ranges_deg(theta: Array, mask: Mask) -> tuple[Range, ...]:
     mask = np.asarray(mask, dtype=bool)
     if not mask.any():
         return ()
-    edges = np.flatnonzero(np.diff(np.concatenate(([0], mask.astype(np.int8), [0]))))
-    runs = [(float(theta[a]), float(theta[b - 1])) for a, b in zip(edges[::2], edges[1::2],
-                                                                     strict=True)]
-    out = [(degrees(a), degrees(b)) for a, b in runs]
+    out = [(degrees(float(theta[a])), degrees(float(theta[b - 1]))) for a, b in runs(mask)]
     if mask[0] and mask[-1] and len(out) > 1:  # the grid covers the turn: a run through 0°
         out[-1] = (out[-1][0], 360.0)
     return merge(out)

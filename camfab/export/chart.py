@@ -28,6 +28,8 @@ from typing import Any
 
 import numpy as np
 
+from camfab.arrays import runs
+
 #: Points per inch: figure sizes are given in inches, as in the figures' callers.
 PT_PER_IN = 72.0
 
@@ -134,9 +136,8 @@ def _path(x: np.ndarray, y: np.ndarray) -> str:
         return ""
     x = np.clip(x, -_FAR, _FAR)
     y = np.clip(y, -_FAR, _FAR)
-    edges = np.flatnonzero(np.diff(np.concatenate(([0], good.view(np.int8), [0]))))
     parts = []
-    for start, stop in zip(edges[::2], edges[1::2], strict=True):
+    for start, stop in runs(good):
         xy = np.column_stack((x[start:stop], y[start:stop])).ravel().tolist()
         parts.append(("M%.2f %.2f" + " L%.2f %.2f" * (stop - start - 1)) % tuple(xy))
     return " ".join(parts)
@@ -233,8 +234,7 @@ class Axes:
         """The area between the curve (x, y1) and the level *y2*, where *where* holds."""
         x, y1 = np.asarray(x, dtype=float), np.asarray(y1, dtype=float)
         mask = np.ones(x.shape, bool) if where is None else np.asarray(where, bool)
-        edges = np.flatnonzero(np.diff(np.concatenate(([0], mask.view(np.int8), [0]))))
-        for k, (start, stop) in enumerate(zip(edges[::2], edges[1::2], strict=True)):
+        for k, (start, stop) in enumerate(runs(mask)):
             xs, ys = x[start:stop], y1[start:stop]
             self.fill(np.concatenate((xs, xs[::-1])),
                       np.concatenate((ys, np.full(xs.shape, y2))), color=color, alpha=alpha,
