@@ -29,12 +29,6 @@ CUT, PITCH, REFERENCE, BAD, FOLLOWER, WARN = ("#c0392b", "#2c5aa0", "#999999", "
 POCKET, CHANGE = "#8e44ad", "#0e6e8c"
 
 
-def new_figure(width_in: float, height_in: float, name: str, **margins: float) -> Figure:
-    """A figure of the given size (inches) with fixed margins (fractions of the figure);
-    *name* prefixes its SVG ids, unique on a page."""
-    return Figure(width_in, height_in, name, **margins)
-
-
 def _thin(*arrays: np.ndarray) -> list[np.ndarray]:
     """Every n-th value of dense arrays (0.05° apart) so lines are drawn every 0.5°: finer than a
     reader can see, and ten times fewer points to write."""
@@ -50,11 +44,6 @@ def angle_axis(*axes: Axes) -> None:
         ax.set_bins(y=4)
 
 
-def svg_text(fig: Figure) -> str:
-    """The figure as inline SVG text."""
-    return fig.svg()
-
-
 def _segment_marks(ax: Axes, analysis: Analysis, labels: bool) -> None:
     """Segment boundaries as vertical lines, with the laws written above the top plot."""
     for seg in analysis.program.segments:
@@ -65,16 +54,21 @@ def _segment_marks(ax: Axes, analysis: Analysis, labels: bool) -> None:
                     va="bottom", fontsize=7, y_in_axes=True)
 
 
+def panel_stack(rows: int) -> tuple[Figure, list[Axes]]:
+    """The diagrams' figure: *rows* panels 1.45 in high, one under the other on a shared
+    cam-angle axis, 9 in wide."""
+    height = 1.45 * rows + 0.6
+    fig = Figure(9.0, height, "diagrams", left=0.11, top=1 - 0.3 / height, bottom=0.45 / height)
+    return fig, fig.subplots(rows, sharex=True)
+
+
 def diagrams(analysis: Analysis) -> str:
     """One figure of the cycle, panel under panel on a shared cam-angle axis: s, v, a and j (per
     radian of cam angle without a speed), the pressure angle against its limit, the radii of
     curvature against the follower's, and with dynamics the contact force and camshaft torque.
     """
     rows = 8 if has_dynamics(analysis) else 6
-    height = 1.45 * rows + 0.6
-    fig = new_figure(9.0, height, "diagrams", left=0.11, top=1 - 0.3 / height,
-                     bottom=0.45 / height)
-    axes = fig.subplots(rows, sharex=True)
+    fig, axes = panel_stack(rows)
     _motion_panels(analysis, axes[:4])
     _pressure_panels(analysis, axes[4], axes[5])
     if rows == 8:
@@ -83,7 +77,7 @@ def diagrams(analysis: Analysis) -> str:
         _segment_marks(ax, analysis, labels=ax is axes[0])
     axes[-1].set_xlabel("cam angle θ (deg)")
     angle_axis(*axes)
-    return svg_text(fig)
+    return fig.svg()
 
 
 def has_dynamics(analysis: Analysis) -> bool:
@@ -199,7 +193,7 @@ def _disc_drawing(analysis: Analysis) -> str:
     geom = analysis.geometry
     assert geom is not None
     fol = geom.cam.follower
-    fig = new_figure(6.4, 6.4, "drawing", left=0.12, bottom=0.08)
+    fig = Figure(6.4, 6.4, "drawing", left=0.12, bottom=0.08)
     [ax] = fig.subplots()
     ax.set_aspect("equal")
     if analysis.groove is not None:
@@ -228,7 +222,7 @@ def _disc_drawing(analysis: Analysis) -> str:
                  fontsize=9)
     ax.set_xlabel("x (mm)")
     ax.set_ylabel("y (mm)")
-    return svg_text(fig)
+    return fig.svg()
 
 
 def _draw_groove(ax: Axes, analysis: Analysis) -> None:
@@ -352,7 +346,7 @@ def _drum_drawing(analysis: Analysis) -> str:
     assert dense is not None
     d = dense.drum
     dev = development(d, analysis.program, 0.01)
-    fig = new_figure(9.0, 3.6, "drawing", bottom=0.14)
+    fig = Figure(9.0, 3.6, "drawing", bottom=0.14)
     [ax] = fig.subplots()
     ax.set_aspect("equal")
     ax.plot([0, dev.width, dev.width, 0, 0], [0, 0, dev.height, dev.height, 0],
@@ -366,4 +360,4 @@ def _drum_drawing(analysis: Analysis) -> str:
     ax.set_xlabel("around the drum (mm)")
     ax.set_ylabel("z (mm)")
     ax.legend(fontsize=7, loc="upper right")
-    return svg_text(fig)
+    return fig.svg()

@@ -9,7 +9,7 @@ import math
 import numpy as np
 
 from camfab.analysis.inspection import Inspection
-from camfab.export.chart import Axes
+from camfab.export.chart import Axes, Figure
 from camfab.export.figures import (
     BAD,
     CUT,
@@ -19,8 +19,7 @@ from camfab.export.figures import (
     WARN,
     angle_axis,
     clip_radii,
-    new_figure,
-    svg_text,
+    panel_stack,
 )
 
 #: Colour of the magnified deviation drawn along the outline.
@@ -34,7 +33,7 @@ _THIN = 5
 def outline_drawing(ins: Inspection, title: str) -> str:
     """The outline as inspected (centred, turned into phase when aligned) at θ = 0 with the
     design's cam over it, the follower, and where the deviation exceeds the tolerance."""
-    fig = new_figure(9.0, 6.4, "outline", left=0.09, right=0.68, bottom=0.08)
+    fig = Figure(9.0, 6.4, "outline", left=0.09, right=0.68, bottom=0.08)
     [ax] = fig.subplots()
     ax.set_aspect("equal")
     ring = _ring(ins.profile.points(0.01))
@@ -66,7 +65,7 @@ def outline_drawing(ins: Inspection, title: str) -> str:
     ax.set_title(title, fontsize=9)
     ax.set_xlabel("x (mm)")
     ax.set_ylabel("y (mm)")
-    return svg_text(fig)
+    return fig.svg()
 
 
 def _magnified(ax: Axes, ins: Inspection) -> None:
@@ -129,11 +128,7 @@ def diagrams(ins: Inspection) -> str:
     against the tolerance, velocity and acceleration (per radian of cam angle without a speed),
     the pressure angle against its limit and the pitch curve's radius of curvature."""
     with_design = ins.deviation_mm is not None
-    rows = 6 if with_design else 5
-    height = 1.45 * rows + 0.6
-    fig = new_figure(9.0, height, "diagrams", left=0.11, top=1 - 0.3 / height,
-                     bottom=0.45 / height)
-    axes = fig.subplots(rows, sharex=True)
+    fig, axes = panel_stack(6 if with_design else 5)
     degrees = np.degrees(ins.theta)
     thin = slice(None, None, _THIN)
     lift_unit = "deg" if ins.oscillating else "mm"
@@ -178,7 +173,7 @@ def diagrams(ins: Inspection) -> str:
     all_axes = list(fig.axes)
     all_axes[-1].set_xlabel("cam angle θ (deg)")
     angle_axis(*all_axes)
-    return svg_text(fig)
+    return fig.svg()
 
 
 def _deviation_panel(ax: Axes, ins: Inspection, degrees: np.ndarray) -> None:

@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from camfab.export.chart import Axes
+from camfab.export.chart import Axes, Figure
 from camfab.export.figures import (
     BAD,
     CUT,
@@ -20,8 +20,6 @@ from camfab.export.figures import (
     REFERENCE,
     clip_radii,
     mark_failures,
-    new_figure,
-    svg_text,
 )
 
 if TYPE_CHECKING:
@@ -38,8 +36,8 @@ def linear_drawing(analysis: Analysis) -> str:
     width = geom.plate_length
     height = float(outline[:, 1].max()) + 2.5 * cam.radius + 0.25 * cam.base_height
     size = min(10.0, max(6.0, 0.04 * width))
-    fig = new_figure(size, max(2.6, size * (height + 0.3 * cam.base_height) / width * 1.15),
-                     "drawing", left=0.07, right=0.98, bottom=0.2, top=0.88)
+    fig = Figure(size, max(2.6, size * (height + 0.3 * cam.base_height) / width * 1.15),
+                 "drawing", left=0.07, right=0.98, bottom=0.2, top=0.88)
     [ax] = fig.subplots()
     ax.set_aspect("equal")
     ring = np.vstack((outline, outline[:1]))
@@ -70,7 +68,7 @@ def linear_drawing(analysis: Analysis) -> str:
     ax.set_title(f"{analysis.design.name} at travel 0 (stroke {cam.stroke:.4g} mm)", fontsize=9)
     ax.set_xlabel("x (mm)")
     ax.set_ylabel("y (mm)")
-    return svg_text(fig)
+    return fig.svg()
 
 
 def linear_pressure_panels(analysis: Analysis, top: Axes, bottom: Axes) -> None:
