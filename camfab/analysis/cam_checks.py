@@ -41,24 +41,33 @@ def extreme(theta: Array, values: Array, mask: Mask | None = None, *,
 
 
 @dataclass(frozen=True)
-class CamNumbers:
-    """The key numbers of a disc cam (mm, deg)."""
+class CurveNumbers:
+    """The key numbers every plate cam has (mm, deg): the smallest convex and concave radii of
+    the pitch and working curves, the largest pressure angle over the cycle and per segment
+    (:func:`curve_extremes`), and where the envelope is undercut."""
 
-    max_radius_mm: float
     pitch_min_convex: Extreme
     pitch_min_concave: Extreme
     profile_min_convex: Extreme
     profile_min_concave: Extreme
     pressure_angle: Extreme
     segment_pressure: list[Extreme]
-    face_contact_mm: tuple[float, float] | None
     undercut_ranges: tuple[Range, ...]
+
+
+@dataclass(frozen=True)
+class CamNumbers(CurveNumbers):
+    """The key numbers of a disc cam (mm, deg): a plate cam's, its largest radius and where a
+    flat face touches it."""
+
+    max_radius_mm: float
+    face_contact_mm: tuple[float, float] | None
 
 
 def curve_extremes(theta: Array, pitch_radius: Array, working_radius: Array, folds: Mask,
                    pressure_angle: Array, segment: Index, segment_count: int) -> dict[str, Any]:
     """The extremes every plate cam reports, on a dense grid of *theta*, by their field names
-    in :class:`CamNumbers` (and a linear cam's numbers): the smallest convex and concave radii
+    in :class:`CurveNumbers`: the smallest convex and concave radii
     (mm) of the pitch and working curves, the largest |pressure angle| (deg) over the cycle
     and in each segment."""
     rp, rw = pitch_radius, working_radius

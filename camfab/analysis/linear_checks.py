@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from camfab.analysis.cam_checks import Extreme, curve_extremes, fmt, where
+from camfab.analysis.cam_checks import CurveNumbers, Extreme, curve_extremes, fmt, where
 from camfab.analysis.findings import Finding, listed
 from camfab.analysis.ranges import Range, merge, ranges_deg
 from camfab.geometry.linear import LinearGeometry, linear_geometry
@@ -27,17 +27,11 @@ if TYPE_CHECKING:
 
 
 @dataclass(frozen=True)
-class LinearNumbers:
-    """The key numbers of a linear cam (mm, deg of the cycle)."""
+class LinearNumbers(CurveNumbers):
+    """The key numbers of a linear cam (mm, deg of the cycle): a plate cam's, and the plate's
+    height."""
 
     max_height_mm: float
-    pitch_min_convex: Extreme
-    pitch_min_concave: Extreme
-    profile_min_convex: Extreme
-    profile_min_concave: Extreme
-    pressure_angle: Extreme
-    segment_pressure: list[Extreme]
-    undercut_ranges: tuple[Range, ...]
 
 
 def linear_numbers(geom: LinearGeometry, segment_count: int) -> LinearNumbers:
