@@ -204,9 +204,8 @@ def groove_lift(d: Drum, vertices: Array, theta: Array, centre: Array) -> tuple[
 
     The vertices should be no further apart along the groove than a fraction of the roller's
     width (see :func:`row_points`). A vertex lies on the roller's surface when its distance
-    from the roller's axis is R: a
-    vertex at w = r sin(ϕ − α) across the axis keeps the centre at least √(R² − w²) above it
-    (a vertex of the lower wall) or below it (of the upper wall).
+    from the roller's axis is R: a vertex at w = r sin(ϕ − α) across the axis keeps the centre
+    at least √(R² − w²) above it (a vertex of the lower wall) or below it (of the upper wall).
     """
     r = np.hypot(vertices[:, 0], vertices[:, 1])
     keep = _inside(d, r)
