@@ -9,7 +9,8 @@ whatever order they finish in; a progress bar on stderr counts them as they fini
 from __future__ import annotations
 
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -63,17 +64,76 @@ def run_all(paths: Sequence[str], out_dir: Path | None, jobs: int, task: Task,
         from concurrent.futures import ProcessPoolExecutor, as_completed
 
         results: list[Outcome | None] = [None] * len(paths)
-        with ProcessPoolExecutor(max_workers=min(jobs, len(paths))) as pool:
-            futures = {pool.submit(_timed, task, path, out_dir): i
-                       for i, path in enumerate(paths)}
+        pool = ProcessPoolExecutor(max_workers=min(jobs, len(paths)), initializer=_worker)
+        try:
+            with _no_sigint():  # the workers start with Ctrl-C held, then ignore it
+                futures = {pool.submit(_timed, task, path, out_dir): i
+                           for i, path in enumerate(paths)}
             for future in as_completed(futures):
                 results[futures[future]] = future.result()
                 if bar is not None:
                     bar.update(1)
+        except BaseException:  # Ctrl-C, SIGTERM: the designs being built are finished (their
+            # files written whole), the others not started
+            pool.shutdown(wait=True, cancel_futures=True)
+            raise
+        pool.shutdown()
         return [r for r in results if r is not None]
     finally:
         if bar is not None:
             bar.render_finish()
+
+
+@contextmanager
+def _no_sigint() -> Iterator[None]:
+    """Hold Ctrl-C (SIGINT) while worker processes are forked, so none starts with it pending."""
+    import signal
+
+    if not hasattr(signal, "pthread_sigmask"):
+        yield
+        return
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+
+
+def _worker() -> None:
+    """A worker ignores Ctrl-C: the batch's process stops the batch and lets a worker finish
+    the design it is writing."""
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if hasattr(signal, "pthread_sigmask"):
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
+
+
+def same_names(paths: Sequence[str]) -> dict[int, Outcome]:
+    """The designs of *paths* whose ``name`` an earlier design of the batch already has, by
+    position, each refused (status 2) with a line naming both: they would write the same files.
+    Designs that cannot be read are left to the build, which says why."""
+    from camfab.design.source import read_design_file
+    from camfab.errors import CamfabError
+
+    first: dict[str, str] = {}
+    refused: dict[int, Outcome] = {}
+    for i, path in enumerate(paths):
+        try:
+            doc = read_design_file(path)
+        except CamfabError:
+            continue
+        name = doc.data.get("name")
+        if not isinstance(name, str):
+            continue
+        if name in first:
+            where = doc.locate(("name",))
+            refused[i] = Outcome(2, err=[f"{where}: '{name}' is also the name of {first[name]} in "
+                                         "this batch: both would write the same files (give "
+                                         "each design its own name)"], name=name)
+        else:
+            first[name] = path
+    return refused
 
 
 def _bar(count: int) -> Any:

@@ -11,7 +11,7 @@ import math
 import os
 import sys
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import click
 
@@ -28,7 +28,119 @@ STARTER_KINDS = ("disc-roller", "disc-knife", "disc-flat", "disc-mushroom", "osc
                  "conjugate", "constant-breadth", "linear")
 
 
-@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+class Interrupted(BaseException):
+    """A signal asking camfab to stop (SIGTERM, SIGHUP): raised where the program is, so that
+    every ``finally`` and cleanup runs, as Ctrl-C's KeyboardInterrupt does."""
+
+    def __init__(self, signum: int) -> None:
+        super().__init__(signum)
+        self.signum = signum
+
+
+#: The signals received, noted as well as raised: a library that catches every exception while
+#: it is imported (trimesh's optional imports) swallows the raise, not the note.
+_RECEIVED: list[int] = []
+
+
+def _raise_interrupted(signum: int, frame: Any) -> None:
+    import signal
+
+    if signum not in _RECEIVED:
+        _RECEIVED.append(signum)
+    if _ignores_exceptions(frame):
+        # raised here it would be printed as "Exception ignored" and lost: deliver the signal
+        # again in a moment, when the main thread is back in ordinary code
+        import threading
+
+        timer = threading.Timer(0.02, signal.pthread_kill,
+                                (threading.main_thread().ident, signum))
+        timer.daemon = True
+        timer.start()
+        return
+    if signum == signal.SIGINT:
+        raise KeyboardInterrupt
+    raise Interrupted(signum)
+
+
+def _ignores_exceptions(frame: Any) -> bool:
+    """True when *frame* runs where Python prints and drops an exception: the import system's
+    callbacks, and the logging module's fork hooks (a library starting a subprocess)."""
+    if frame is None:
+        return False
+    code = frame.f_code
+    return (code.co_filename.startswith("<frozen importlib")
+            or code.co_name in ("_releaseLock", "_acquireLock", "_at_fork_reinit",
+                                "_after_at_fork_child_reinit_locks"))
+
+
+def _catch_signals() -> None:
+    """Ctrl-C, SIGTERM and SIGHUP raise where the program is (unless they are ignored, as in a
+    shell's background job) and are noted in :data:`_RECEIVED`."""
+    import signal
+
+    if signal.getsignal(signal.SIGINT) is signal.default_int_handler:
+        signal.signal(signal.SIGINT, _raise_interrupted)
+    for name in ("SIGTERM", "SIGHUP"):
+        number = getattr(signal, name, None)
+        if number is not None and signal.getsignal(number) == signal.SIG_DFL:
+            signal.signal(number, _raise_interrupted)
+
+
+class _Camfab(click.Group):
+    """The command group, run so that every way out is one line and a documented status: click's
+    usage errors on one line (status 2), Ctrl-C status 130 and SIGTERM 143 (128 + the signal),
+    with the temporary files of an interrupted build removed on the way out."""
+
+    def invoke(self, ctx: click.Context) -> Any:
+        try:
+            return super().invoke(ctx)
+        except KeyboardInterrupt:  # as ours, before click prints a blank line for it
+            import signal
+
+            raise Interrupted(signal.SIGINT) from None
+
+    def main(self, args: Any = None, prog_name: str | None = None,
+             complete_var: str | None = None, standalone_mode: bool = True,
+             **extra: Any) -> Any:
+        import signal
+
+        _catch_signals()
+        try:
+            result = super().main(args, prog_name, complete_var, standalone_mode=False, **extra)
+            code = result if isinstance(result, int) else 0
+        except SystemExit as exc:  # the commands' sys.exit(status)
+            code = exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 1)
+        except click.exceptions.Abort:  # click's form of Ctrl-C (KeyboardInterrupt)
+            _RECEIVED.append(signal.SIGINT)
+        except Interrupted as exc:
+            _RECEIVED.append(exc.signum)
+        except click.exceptions.NoArgsIsHelpError as exc:  # a bare ``camfab``: the help
+            click.echo(exc.format_message(), err=True)
+            code = exc.exit_code
+        except click.ClickException as exc:
+            click.echo(_usage_line(exc), err=True)
+            code = exc.exit_code
+        if _RECEIVED:
+            signum = _RECEIVED[0]
+            click.echo("camfab: interrupted" if signum == signal.SIGINT else
+                       f"camfab: stopped by signal {signum}", err=True)
+            code = 128 + signum
+        if standalone_mode:
+            sys.exit(code)
+        return code
+
+
+def _usage_line(exc: click.ClickException) -> str:
+    """A click error as one line: ``camfab build: No such option: --frobnicate (see camfab
+    build --help)``."""
+    message = " ".join(exc.format_message().split())
+    ctx = getattr(exc, "ctx", None)
+    if isinstance(exc, click.UsageError) and ctx is not None:
+        return f"{ctx.command_path}: {message} (see {ctx.command_path} --help)"
+    return f"camfab: {message}"
+
+
+@click.group(cls=_Camfab, context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(__version__, "-V", "--version", prog_name="camfab")
 def main() -> None:
     """camfab: turn a cam design (YAML) into workshop files and an inspection report."""
@@ -50,12 +162,15 @@ def build(designs: tuple[str, ...], out_dir: Path | None, jobs: int,
     exit status is the worst of them."""
     import time
 
-    from camfab.batch import run_all, summary
+    from camfab.batch import run_all, same_names, summary
 
     if progress is None:
         progress = len(designs) >= PROGRESS_FROM and sys.stderr.isatty()
     start = time.perf_counter()
-    outcomes = run_all(designs, out_dir, jobs, _build_one, progress)
+    refused = same_names(designs) if len(designs) > 1 else {}
+    built = iter(run_all([p for i, p in enumerate(designs) if i not in refused], out_dir, jobs,
+                         _build_one, progress))
+    outcomes = [refused[i] if i in refused else next(built) for i in range(len(designs))]
     code = _finish(outcomes)
     if len(designs) > 1:
         click.echo("")
@@ -199,11 +314,17 @@ def _finish(outcomes: list[Outcome]) -> int:
 
 
 def _guarded(path: str, work) -> Outcome:
-    """Run *work*; invalid input becomes its one-line message and status 2."""
+    """Run *work*; invalid input becomes its one-line message and status 2. numpy's warnings on
+    extreme values stay off the terminal: what a design does wrong is a finding or an error."""
+    import warnings
+
     from camfab.errors import CamfabError
 
     try:
-        return work()
+        with warnings.catch_warnings():
+            if not os.environ.get("CAMFAB_DEBUG"):
+                warnings.simplefilter("ignore", RuntimeWarning)
+            return work()
     except CamfabError as exc:
         return Outcome(2, err=[str(exc)])
     except Exception as exc:
@@ -257,7 +378,7 @@ def _verdict(analysis: Analysis) -> str:
 
 
 def _mark(finding) -> str:
-    return "✖" if finding.severity == "error" else "!"
+    return finding.mark
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -6,9 +6,10 @@ temporary files renamed into place, so an interrupted or failed build leaves ear
 
 from __future__ import annotations
 
+import glob
 import os
-import tempfile
-from collections.abc import Callable, Mapping
+import secrets
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -84,10 +85,14 @@ def analyse(design: Design) -> Analysis:
 
 
 def _analyse_geometry(design: Design) -> Analysis:
+    from camfab.analysis.cam_checks import bore_finding
+
     program = design.program
     units = MotionUnits(design.follower.oscillating)
     omega = design.cam.omega
     findings, steps = continuity_findings(program, units, omega)
+    bore = bore_finding(design)
+    findings = [*findings, *([bore] if bore is not None else [])]
     stats = segment_stats(program, steps, units, omega)
     if design.cam.type == "cylindrical":
         from camfab.analysis.drum_checks import drum_findings, drum_numbers
@@ -191,6 +196,11 @@ def render(analysis: Analysis) -> Artifacts:
 def write_files(folder: Path, files: Mapping[str, bytes]) -> list[Path]:
     """Write *files* into *folder* atomically: all to temporary files first, then renamed.
 
+    The files get the permissions the umask allows (as any other program's would), not a
+    temporary file's private 0600. Temporary files are removed on every way out (an error,
+    Ctrl-C, SIGTERM); those a killed build left behind are removed by the next build of the
+    same files.
+
     Raises
     ------
     OutputError
@@ -200,20 +210,67 @@ def write_files(folder: Path, files: Mapping[str, bytes]) -> list[Path]:
         folder.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise OutputError(f"{folder}: cannot create the output folder ({exc.strerror})") from None
+    remove_stale_temps(folder, files)
     temps: list[tuple[Path, Path]] = []
     try:
         for name, data in files.items():
-            handle, temp_name = tempfile.mkstemp(prefix=f".{name}.", suffix=".tmp", dir=folder)
-            temps.append((Path(temp_name), folder / name))
+            temp = folder / _temp_name(name)
+            handle = os.open(temp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | _O_BINARY, 0o666)
+            temps.append((temp, folder / name))
             with os.fdopen(handle, "wb") as stream:
                 stream.write(data)
         for temp, final in temps:
             os.replace(temp, final)
-    except OSError as exc:
+    except BaseException as exc:
         for temp, _ in temps:
             temp.unlink(missing_ok=True)
-        raise OutputError(f"{folder}: cannot write the outputs ({exc.strerror or exc})") from None
+        if isinstance(exc, OSError):
+            raise OutputError(f"{folder}: cannot write the outputs ({exc.strerror or exc})") \
+                from None
+        raise
     return [final for _, final in temps]
+
+
+_O_BINARY = getattr(os, "O_BINARY", 0)
+
+#: A temporary file older than this (seconds) is stale even when its process id is in use again.
+STALE_TEMP_SECONDS = 24 * 3600
+
+
+def _temp_name(name: str) -> str:
+    """``.NAME.PID.RANDOM.tmp``: hidden, and telling which process writes it."""
+    return f".{name}.{os.getpid()}.{secrets.token_hex(4)}.tmp"
+
+
+def remove_stale_temps(folder: Path, names: Iterable[str]) -> None:
+    """Remove the temporary files of *names* in *folder* that no running build writes: their
+    process is gone (a build killed with SIGKILL, a power cut), or they are older than
+    :data:`STALE_TEMP_SECONDS`. A concurrent build's temporary files are left alone."""
+    import time
+
+    now = time.time()
+    for name in names:
+        for temp in folder.glob(f".{glob.escape(name)}.*.tmp"):
+            pid_text = temp.name[len(name) + 2:].split(".", 1)[0]
+            try:
+                old = now - temp.stat().st_mtime > STALE_TEMP_SECONDS
+                if old or not pid_text.isdigit() or not _running(int(pid_text)):
+                    temp.unlink()
+            except OSError:  # gone already, or not ours to remove
+                continue
+
+
+def _running(pid: int) -> bool:
+    """True when a process *pid* exists on this machine."""
+    if pid == os.getpid() or os.name == "nt":  # Windows' os.kill(pid, 0) sends a Ctrl-C
+        return True
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except (PermissionError, OSError, OverflowError):
+        return True  # someone else's process, or a platform that cannot tell: leave it
+    return True
 
 
 @dataclass(frozen=True)

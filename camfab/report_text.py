@@ -6,6 +6,7 @@ import math
 from typing import TYPE_CHECKING
 
 from rich.console import Console
+from rich.markup import escape
 from rich.table import Table
 
 if TYPE_CHECKING:
@@ -37,7 +38,7 @@ def print_summary(analysis: Analysis) -> None:
     console.print(f"[bold]{design.name}[/bold] — {cam.type} cam, {motion}, {speed}; "
                   f"{fol.motion} {fol.type} follower")
     if design.description:
-        console.print(design.description)
+        console.print(design.description, markup=False, emoji=False)
     with_speed = cam.omega is not None
     table = Table(title="motion program", title_justify="left")
     for name in ("#", "segment", "law", "θ (deg)", units.lift_key.replace("_", " ")):
@@ -112,9 +113,10 @@ def print_summary(analysis: Analysis) -> None:
             f"{_num(shape.nose_centre_distance)} mm from the cam centre; contact passes from "
             f"flank to nose at {_num(math.degrees(shape.flank_end_angle))}°")
     for finding in analysis.findings:
-        mark = "[green]✔[/green]" if finding.ok else (
-            "[red]✖[/red]" if finding.severity == "error" else "[yellow]![/yellow]")
-        console.print(f"{mark} {finding.id}: {finding.message}")
+        colour = ("dim" if not finding.applicable else "green" if finding.ok else
+                  "red" if finding.severity == "error" else "yellow")
+        mark = f"[{colour}]{finding.mark}[/{colour}]"
+        console.print(f"{mark} {finding.id}: {escape(finding.message)}", emoji=False)
     errors, warnings = count(analysis.findings, "error"), count(analysis.findings, "warning")
     verdict = "[red]FAIL[/red]" if analysis.exit_code else "[green]OK[/green]"
     console.print(f"{verdict}: {errors} error(s), {warnings} warning(s)")

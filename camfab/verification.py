@@ -18,12 +18,13 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from camfab.analysis.findings import Finding
+from camfab.geometry.disc_geometry import LiftCheck
 
 if TYPE_CHECKING:
     from camfab.design import Design
     from camfab.export.stl import StlCheck
     from camfab.geometry.conjugate import Hold
-    from camfab.geometry.disc_geometry import DiscGeometry, LiftCheck
+    from camfab.geometry.disc_geometry import DiscGeometry
     from camfab.geometry.profile import Profile
     from camfab.motion.program import MotionProgram
     from camfab.pipeline import Analysis
@@ -50,6 +51,25 @@ class Verification:
     stl: StlCheck | None = None
     exempt: bool = False
     hold: Hold | None = None
+    #: An undercut cam's files held to the cam camfab computed, whose motion departs from the
+    #: design on purpose: the follower's lift over the geometry as written less its lift over
+    #: the cut cam (None when there is no such reference: a folded groove).
+    cut_error: LiftCheck | None = None
+
+
+def against_cut(written: LiftCheck, cut: LiftCheck, tolerance: float) -> LiftCheck:
+    """The lift over the files *written* against the motion of the *cut* cam as computed (its
+    loops trimmed), at the same cam angles: what the files add to an undercut cam's departure
+    from the design.
+
+    Where the cut cam follows the design (its lift within the sampling share of *tolerance*,
+    mm, of the design's), the design's motion is the reference, as for any cam; where the
+    undercut takes it further, the cut cam's motion is."""
+    from camfab.geometry.sampling import SAMPLING_SHARE
+
+    departs = np.abs(cut.error_mm) > SAMPLING_SHARE * tolerance
+    return LiftCheck(written.theta, written.error - np.where(departs, cut.error, 0.0),
+                     written.error_mm - np.where(departs, cut.error_mm, 0.0))
 
 
 @dataclass(frozen=True)
@@ -138,7 +158,11 @@ def verify_plate(analysis: Analysis, requested: tuple[str, ...]) -> tuple[Verifi
 
         files["svg"] = render_svg(analysis, contours.cut)
     return Verification(back.lift, back.source, back.entities, back.deviation, stl_check,
-                        exempt=geom.undercut), files, back
+                        exempt=geom.undercut,
+                        cut_error=against_cut(back.lift, geom.lift,
+                                              design.manufacturing.tolerance)
+                        if geom.undercut else None
+                        ), files, back
 
 
 @dataclass(frozen=True)
@@ -232,7 +256,7 @@ def _verify_drum(analysis: Analysis) -> tuple[Verification, dict[str, bytes], di
     # them no further apart than a quarter of the roller's radius
     theta = cycle_angles(DRUM_VERIFY_STEP)
     centre_z = d.start + program.evaluate(theta)[0]
-    surface = row_points(d, vertices, faces, d.roller / 4.0)
+    surface = row_points(d, vertices, faces, d.roller / 4.0, d.axis_angle(theta))
     low, high = groove_lift(d, surface, theta, centre_z)
     found = np.isfinite(low) & np.isfinite(high)  # the roller meets both walls
     error = np.full(theta.size, np.inf)
@@ -254,13 +278,35 @@ def _verify_drum(analysis: Analysis) -> tuple[Verification, dict[str, bytes], di
 
 def verification_finding(analysis: Analysis, check: Verification) -> Finding:
     """Do the files hold the design? The follower's lift over the geometry as written within
-    the tolerance (an undercut cam's error is the undercut finding's), and the STL closed,
-    outward and of the part's volume."""
+    the tolerance, and the STL closed, outward and of the part's volume.
+
+    An undercut cam's motion departs from the design on purpose (the undercut check says by how
+    much): its files are held to the cam camfab computed instead. Where there is no such cam to
+    compare with (a groove that folds over), the lift is not compared, and without an STL to
+    check the finding is not applicable rather than passed."""
     tolerance = analysis.design.manufacturing.tolerance
-    lift_ok = check.exempt or check.lift.max_mm <= tolerance
-    parts = [f"the follower run over the geometry as written ({check.source}) moves "
-             f"{check.lift.max_mm:.3g} mm at most from the design motion (at "
-             f"{check.lift.at_deg:.4g}°, tolerance {tolerance:.3g} mm)"]
+    lift = check.lift
+    value: float | None = lift.max_mm
+    if not check.exempt:
+        lift_ok = lift.max_mm <= tolerance
+        parts = [f"the follower run over the geometry as written ({check.source}) moves "
+                 f"{lift.max_mm:.3g} mm at most from the design motion (at {lift.at_deg:.4g}°, "
+                 f"tolerance {tolerance:.3g} mm)"]
+    elif check.cut_error is not None:
+        cut = check.cut_error
+        value = cut.max_mm
+        lift_ok = cut.max_mm <= tolerance
+        parts = [f"the cam is undercut and moves the follower up to {lift.max_mm:.3g} mm off "
+                 f"the design (see the undercut check); the follower run over the geometry as "
+                 f"written ({check.source}) moves {cut.max_mm:.3g} mm at most from the motion "
+                 f"of the cut cam camfab computed, the design's wherever the undercut leaves it "
+                 f"(at {cut.at_deg:.4g}°, tolerance {tolerance:.3g} mm)"]
+    else:
+        value = None
+        lift_ok = True
+        parts = [f"not applicable: the groove folds over itself, so there is no cam whose "
+                 f"motion the files could hold (see the groove check; the roller run "
+                 f"{check.source} moves up to {lift.max_mm:.3g} mm off the design)"]
     stl = check.stl
     if stl is not None:
         shape = ("closed, outward, no degenerate face" if stl.watertight and
@@ -270,5 +316,6 @@ def verification_finding(analysis: Analysis, check: Verification) -> Finding:
         parts.append(f"the STL reads back {shape}, {stl.faces} faces, "
                      f"{stl.volume_mm3:.6g} mm³ against the part's {stl.expected_volume_mm3:.6g}")
     ok = lift_ok and (stl is None or stl.ok)
-    return Finding("verification", ok, "error", "; ".join(parts), check.lift.max_mm,
-                   tolerance, "mm")
+    applicable = value is not None or (stl is not None and not stl.ok)
+    return Finding("verification", ok, "error", "; ".join(parts), value, tolerance, "mm",
+                   applicable=applicable)

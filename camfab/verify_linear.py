@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from camfab.verification import Verification, named, read_part
+from camfab.verification import Verification, against_cut, named, read_part
 
 if TYPE_CHECKING:
     from camfab.export.stl import StlCheck
@@ -81,6 +81,8 @@ def verify_linear(analysis: Analysis,
         from camfab.export.svg import render_svg
 
         files["svg"] = render_svg(analysis, Contours((cut,)))
+    cut_error = (against_cut(lift, geom.lift, design.manufacturing.tolerance)
+                 if geom.undercut else None)
     check = Verification(lift, source, len(written.vertices), deviation, stl_check,
-                         exempt=geom.undercut)
+                         exempt=geom.undercut, cut_error=cut_error)
     return check, named(design.name, files)

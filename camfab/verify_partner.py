@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING
 from camfab.geometry.conjugate import hold, made_geometry, to_made_frame
 from camfab.geometry.disc_geometry import VERIFY_STEP, LiftCheck
 from camfab.motion.program import cycle_angles
-from camfab.verification import Verification, read_back, verify_plate
+from camfab.verification import Verification, against_cut, read_back, verify_plate
 
 if TYPE_CHECKING:
     from camfab.pipeline import Analysis
@@ -89,5 +89,12 @@ def _verify_pair(analysis: Analysis, requested: tuple[str, ...]) -> tuple[
     deviation = (None if back_a.deviation is None or back_b.deviation is None
                  else max(back_a.deviation, back_b.deviation))
     lift = LiftCheck(worse.theta, worse.error, worse.error_mm)
+    cut_error = None
+    if geom_a.undercut or geom_b.undercut:  # each cam's files held to the cam as computed
+        tolerance = analysis.design.manufacturing.tolerance
+        cut_error = max((against_cut(back_a.lift, geom_a.lift, tolerance),
+                         against_cut(back_b.lift, geom_b.lift, tolerance)),
+                        key=lambda c: c.max_mm)
     return Verification(lift, source, back_a.entities + back_b.entities, deviation, stl_check,
-                        exempt=geom_a.undercut or geom_b.undercut, hold=held), files
+                        exempt=geom_a.undercut or geom_b.undercut, hold=held,
+                        cut_error=cut_error), files

@@ -34,7 +34,7 @@ def test_every_example_design_builds(tmp_path: Path, path: Path) -> None:
     assert (folder / f"{name}-motion.csv").is_file()
     report = json.loads((folder / f"{name}-report.json").read_text())
     assert report["name"] == name and report["status"]["exit_code"] == result.exit_code
-    failed = {c["id"] for c in report["checks"] if not c["ok"] and c["severity"] == "error"}
+    failed = {c["id"] for c in report["checks"] if c["ok"] is False and c["severity"] == "error"}
     assert failed == failing
 
 
@@ -115,6 +115,40 @@ def test_bad_command_line_exits_2(tmp_path: Path) -> None:
     assert run_cli("build", cwd=tmp_path).exit_code == 2
     assert run_cli("build", "-j", "0", "x.yaml", cwd=tmp_path).exit_code == 2
     assert run_cli("frobnicate", cwd=tmp_path).exit_code == 2
+
+
+@pytest.mark.parametrize(("args", "words"), [
+    (("build",), "camfab build: Missing argument 'DESIGNS...'"),
+    (("build", "d.yaml", "-o", "a-file"), "Directory 'a-file' is a file"),
+    (("build", "d.yaml", "--frobnicate"), "No such option '--frobnicate'"),
+    (("build", "d.yaml", "-j", "0"), "0 is not in the range 1<=x<=256"),
+    (("frobnicate",), "camfab: No such command 'frobnicate'"),
+    (("inspect", "x.dxf", "--type", "wheel"), "'wheel' is not one of"),
+])
+def test_a_bad_command_line_is_one_line(tmp_path: Path, args: tuple[str, ...],
+                                        words: str) -> None:
+    (tmp_path / "a-file").write_text("not a folder")
+    run = subprocess.run([sys.executable, "-m", "camfab", *args], cwd=tmp_path,
+                         capture_output=True, text=True, check=False)
+    assert run.returncode == 2
+    assert run.stdout == "" and run.stderr.count("\n") == 1, run.stderr
+    assert words in run.stderr and "--help" in run.stderr, run.stderr
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a-file"]
+
+
+@pytest.mark.parametrize("description", ["[/bold] x", "[link=http://example.com]y[/link]",
+                                         "[red]not red[/red] :smile:"])
+def test_check_prints_a_description_as_written(tmp_path: Path, description: str) -> None:
+    text = (DESIGNS / "seed-poly-345.yaml").read_text()
+    (tmp_path / "d.yaml").write_text(text + f"description: {json.dumps(description)}\n"
+                                     if "description:" not in text else
+                                     "\n".join(f"description: {json.dumps(description)}"
+                                               if line.startswith("description:") else line
+                                               for line in text.splitlines()) + "\n")
+    result = run_cli("check", "d.yaml", cwd=tmp_path)
+    assert result.exit_code == 0, result.output
+    assert description in result.stdout.splitlines()
+    assert "internal error" not in result.output
 
 
 def test_version_does_not_import_numpy() -> None:

@@ -118,6 +118,31 @@ CASES = [
     ("negative-cutter", "  - dwell:  {angle: 100}\n",
      "  - dwell:  {angle: 100}\nmanufacturing: {cutter_radius: -2}\n", 20,
      "manufacturing.cutter_radius", None),
+    # a unit must have the field's dimension, and name nothing but units
+    ("angle-squared", "{angle: 120,", "{angle: '120 degree*degree',", 16, "motion[0].angle",
+     "must be an angle"),
+    ("turns-per-turn", "base_radius: 20", "base_radius: '20 turn/revolution'", 7,
+     "cam.base_radius", "cancels out"),
+    ("unit-to-the-zero", "base_radius: 20", "base_radius: '20 mm**0'", 7, "cam.base_radius",
+     "cancels out"),
+    ("percent", "base_radius: 20", "base_radius: '20 percent'", 7, "cam.base_radius",
+     "'percent' is a pure number"),
+    ("ppm", "offset: 10", "offset: '10 ppm'", 13, "follower.offset", "'ppm' is a pure number"),
+    ("pi-times", "roller_radius: 7", "roller_radius: '2 pi*mm'", 14, "follower.roller_radius",
+     "'pi' is a pure number"),
+    ("speed-per-turn", "speed_rpm: 1000", "speed_rpm: '1000 rpm*turn'", 6, "cam.speed_rpm",
+     "rotational speed"),
+    ("mass-in-percent", "  roller_radius: 7\n", "  roller_radius: 7\n  mass: '5 percent'\n", 15,
+     "follower.mass", "pure number"),
+    # every number that sets how finely camfab samples has a lower bound on its line
+    ("table-step-tiny", "  - dwell:  {angle: 100}\n",
+     "  - dwell:  {angle: 100}\ntable_step: 0.000001\n", 20, "table_step", "at least 0.01°"),
+    ("blend-tiny", "law: harmonic}", "law: modified-uniform-velocity, blend: 1.0e-8}", 16,
+     "motion[0].blend", "≥ 0.001"),
+    # the name places the files: it cannot climb out of exports/ or hide them
+    ("name-dot-dot", "name: bad-design", "name: '..'", 1, "name", "start with a letter"),
+    ("name-dot", "name: bad-design", "name: '.'", 1, "name", "start with a letter"),
+    ("name-hidden", "name: bad-design", "name: .cam", 1, "name", "start with a letter"),
 ]
 
 

@@ -4,7 +4,9 @@ against closed-form answers on profiles that are not made by camfab's synthesis.
 
 from __future__ import annotations
 
+import json
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -18,7 +20,7 @@ from camfab.geometry.disc_geometry import disc_geometry
 from camfab.geometry.follower import FollowerGeometry
 from camfab.geometry.profile import Profile
 from camfab.geometry.simulate import simulate
-from camfab.pipeline import analyse
+from camfab.pipeline import analyse, render
 
 from .conftest import DESIGN_FILES, DESIGNS
 
@@ -101,6 +103,61 @@ def test_undercut_roller_is_trimmed_and_its_motion_error_measured() -> None:
     assert float(geom.lift.error.max()) <= 1e-3  # never pushed above the design motion
     assert f"{geom.lift.max_mm:.4g} mm off the design" in finding.message
     assert "roller radius below 10.94 mm" in finding.message
+
+
+def test_an_undercut_cams_files_are_held_to_the_cut_cam_not_passed_unchecked() -> None:
+    """The verification of an undercut cam compares the follower over the DXF read back with
+    the design's motion wherever the cut cam follows it, and with the cut cam's inside the
+    undercut: a check that can fail, with its value within its limit when it passes."""
+    design = load_design(DESIGNS / "demo-undercut.yaml")
+    analysis = render(analyse(design)).analysis
+    assert analysis is not None and analysis.verification is not None
+    check = next(f for f in analysis.findings if f.id == "verification")
+    tolerance = design.manufacturing.tolerance
+    assert check.applicable and check.ok and check.limit == tolerance
+    assert check.value is not None and check.value <= tolerance
+    assert "the cam is undercut" in check.message and "see the undercut check" in check.message
+    # independently: the lift read back from the DXF, against the design away from the nose
+    # and against the trimmed cam's own motion at the nose (undercut at 38°-52°)
+    written = analysis.verification.lift
+    cut = analysis.geometry.lift
+    theta = np.degrees(written.theta)
+    away = (theta < 30.0) | (theta > 60.0)
+    assert np.abs(written.error_mm[away]).max() <= tolerance
+    nose = ~away
+    assert np.abs(written.error_mm[nose] - cut.error_mm[nose]).max() <= tolerance
+    assert np.abs(written.error_mm[nose]).max() > 50 * tolerance  # the undercut's own error
+    # a cut cam off by more than the tolerance fails the check
+    from camfab.verification import verification_finding
+
+    shifted = replace(analysis.verification, cut_error=replace(
+        analysis.verification.cut_error, error_mm=analysis.verification.cut_error.error_mm
+        + 2 * tolerance))
+    failed = verification_finding(analysis, shifted)
+    assert not failed.ok and failed.applicable and failed.value > tolerance
+
+
+def test_a_folded_groove_has_no_verification_to_pass() -> None:
+    """A drum whose groove folds over has no STL and no cam whose motion files could hold: its
+    verification is not applicable (null in the JSON, "–" on the page), not passed."""
+    artifacts = render(analyse(load_design(DESIGNS / "demo-drum-steep.yaml")))
+    check = next(c for c in json.loads(artifacts.files["demo-drum-steep-report.json"])["checks"]
+                 if c["id"] == "verification")
+    assert check["ok"] is None and check["applicable"] is False and check["value"] is None
+    assert check["message"].startswith("not applicable: the groove folds over itself")
+    page = artifacts.files["demo-drum-steep-report.html"].decode()
+    assert '<td class="mark na">–</td>' in page
+
+
+@pytest.mark.parametrize(("path", "part"), [("seed-poly-345.yaml", "plate"),
+                                            ("demo-oscillating-knife.yaml", "plate")])
+def test_a_plate_without_a_bore_is_a_warning(path: str, part: str) -> None:
+    findings = analyse(load_design(DESIGNS / path)).findings
+    bore = next(f for f in findings if f.id == "bore")
+    assert not bore.ok and bore.severity == "warning"
+    assert bore.message.startswith(f"no bore: the {part} has no shaft hole")
+    with_bore = analyse(load_design(DESIGNS / "seed-10-4.yaml")).findings
+    assert next(f for f in with_bore if f.id == "bore").ok
 
 
 FLAT_CUSP = """

@@ -39,6 +39,9 @@ class Finding:
     unit: str | None = None
     ranges_deg: tuple[tuple[float, float], ...] = field(default_factory=tuple)
     quantity: str | None = None
+    #: False when the check does not apply to this design (the message says why): neither
+    #: passed nor failed, shown as "–" and written with ``ok`` null.
+    applicable: bool = True
 
     @property
     def failed_error(self) -> bool:
@@ -48,7 +51,7 @@ class Finding:
     def to_json(self) -> dict[str, Any]:
         out: dict[str, Any] = {
             "id": self.id,
-            "ok": self.ok,
+            "ok": self.ok if self.applicable else None,
             "severity": self.severity,
             "message": self.message,
             "value": self.value,
@@ -58,7 +61,18 @@ class Finding:
         }
         if self.quantity is not None:
             out["quantity"] = self.quantity
+        if not self.applicable:
+            out["applicable"] = False
         return out
+
+    @property
+    def mark(self) -> str:
+        """✔ passed, ✖ a failed error, ! a failed warning, – not applicable."""
+        if not self.applicable:
+            return "–"
+        if self.ok:
+            return "✔"
+        return "✖" if self.severity == "error" else "!"
 
 
 def exit_status(findings: Iterable[Finding]) -> int:

@@ -40,6 +40,11 @@ _SECTIONS: dict[str, tuple[str, ...]] = {
     "limits": ("pressure_angle", "min_radius_of_curvature"),
     "manufacturing": ("tolerance", "kerf", "cutter_radius"),
 }
+#: Largest table law CSV file (bytes) and most rows it may hold: a lift measured every 0.1° is
+#: 3,600 rows; the quintic spline through the points costs time in proportion to their count.
+MAX_TABLE_BYTES = 1_000_000
+MAX_TABLE_ROWS = 20_000
+
 _KEYWAY = ("width", "depth")
 _CONDITIONS = ("velocity", "acceleration", "jerk")
 _LAW_KEYS = {
@@ -223,12 +228,7 @@ class _Shaper:
             self.fail(path, "must be the path of a CSV file of angle, displacement rows", got=name)
         if "points" in self.doc.value_at(self.yaml_path(("motion", index))):
             self.fail(path, "give either points or csv, not both")
-        file = self.doc.folder / name
-        try:
-            text = file.read_text(encoding="utf-8-sig")
-        except (OSError, UnicodeDecodeError) as exc:
-            reason = getattr(exc, "strerror", None) or "not a UTF-8 text file"
-            self.fail(path, f"cannot read the table ({reason})", got=name)
+        text = self._table_text(path, name)
         rows: list[list[str]] = []
         for number, line in enumerate(text.splitlines(), start=1):
             cells = [c.strip() for c in line.replace(";", ",").split(",")]
@@ -243,7 +243,27 @@ class _Shaper:
                     continue  # a header row
                 self.fail(path, f"row {number} of {name} is not a number: {line.strip()[:40]!r}")
             rows.append(cells[:2])
+            if len(rows) > MAX_TABLE_ROWS:
+                self.fail(path, f"{name} has more than {MAX_TABLE_ROWS:,} rows; a table law "
+                          "takes at most that many points")
         return rows
+
+    def _table_text(self, path: Path_, name: str) -> str:
+        """The text of a table law's CSV file *name*: a regular file of at most
+        :data:`MAX_TABLE_BYTES` in the design file's folder or below it."""
+        from camfab.files import FileRefused, read_limited
+
+        folder = self.doc.folder.resolve()
+        file = (folder / name).resolve()
+        if Path(name).is_absolute() or not file.is_relative_to(folder):
+            self.fail(path, "must name a file in the design file's folder or below it (a "
+                      "relative path such as 'lift.csv' or 'data/lift.csv')", got=name)
+        try:
+            return read_limited(file, MAX_TABLE_BYTES, "a table").decode("utf-8-sig")
+        except FileRefused as exc:
+            self.fail(path, f"cannot read the table: {name} {exc.reason}")
+        except UnicodeDecodeError:
+            self.fail(path, f"cannot read the table: {name} is not a UTF-8 text file")
 
 
 def _follower_keys(cam_type: Any, follower: dict[str, Any]) -> tuple[str, ...]:
@@ -353,7 +373,8 @@ def _describe(err: Any) -> tuple[str, Any, str | None]:
     if kind == "less_than_equal":
         return f"must be ≤ {ctx.get('le')}", None, None
     if kind == "string_pattern_mismatch":
-        return "may only use a-z, 0-9, '.', '_' and '-'", None, None
+        return ("must start with a letter or digit and use only a-z, 0-9, '.', '_' and '-'",
+                None, None)
     if kind in _PYDANTIC_PROBLEMS:
         return _PYDANTIC_PROBLEMS[kind], None, None
     msg = str(err.get("msg", "is invalid"))

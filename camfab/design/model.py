@@ -242,6 +242,13 @@ def _point(value: Any, info: ValidationInfo) -> Any:
 Point = Annotated[tuple[float, float], BeforeValidator(_point)]
 
 
+#: Smallest blend of the modified-uniform-velocity law (a share of the segment at each end).
+#: The acceleration grows as 1/blend and the samples that hold the tolerance over the blend with
+#: it; at 1e-7 a check takes seconds and hundreds of megabytes, and under a thousandth of the
+#: segment the blend is a velocity step in all but name.
+MIN_BLEND = 0.001
+
+
 class Segment(Frozen):
     """One segment of the motion program (``kind`` comes from the one-key map in the file)."""
 
@@ -250,7 +257,7 @@ class Segment(Frozen):
     travel: PositiveLength | None = None
     lift: Lift | None = None
     law: str | None = None
-    blend: Annotated[float, Field(gt=0, le=0.5)] | None = None
+    blend: Annotated[float, Field(ge=MIN_BLEND, le=0.5)] | None = None
     start: Conditions | None = None
     end: Conditions | None = None
     points: tuple[Point, ...] | None = None
@@ -313,7 +320,9 @@ class Manufacturing(Frozen):
 class Design(Frozen):
     """A whole cam design, validated."""
 
-    name: Annotated[str, Field(min_length=1, max_length=100, pattern=r"^[a-z0-9._-]+$")]
+    #: Names the output files and folder: it starts with a letter or digit, so that neither
+    #: ``".."`` nor ``"."`` nor a hidden ``".x"`` can place the files elsewhere.
+    name: Annotated[str, Field(min_length=1, max_length=100, pattern=r"^[a-z0-9][a-z0-9._-]*$")]
     description: str = ""
     units: Literal["mm", "in"] = "mm"
     cam: Cam

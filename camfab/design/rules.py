@@ -34,6 +34,10 @@ MIN_SEGMENT_DEG = 1e-6
 #: STL's float32 coordinates), and a build at 1e-6 mm already takes minutes.
 MIN_TOLERANCE_MM = 1e-4
 
+#: Finest step of the motion table (degrees): 36,000 rows, finer than any dial gauge reads; a
+#: step of a millionth of a degree would ask for 360 million rows.
+MIN_TABLE_STEP_DEG = 0.01
+
 #: Most motion segments camfab builds. Far more than any real cam's; analysis and exports take
 #: time in proportion to the count (a disc cam of a thousand segments builds in some 8 s).
 MAX_SEGMENTS = 1000
@@ -536,6 +540,10 @@ def _check_other(design: Design) -> None:
         fail(("limits", "pressure_angle"), "must be below 90°")
     step_deg = math.degrees(design.table_step)
     count = 360.0 / step_deg
+    if step_deg < MIN_TABLE_STEP_DEG:
+        rows = 360.0 / MIN_TABLE_STEP_DEG
+        fail(("table_step",), f"must be at least {MIN_TABLE_STEP_DEG:g}° ({rows:,.0f} rows of "
+             "the motion table)")
     if step_deg > 30.0 or abs(count - round(count)) > 1e-6:
         fail(("table_step",), "must divide 360° and be at most 30°")
     if design.manufacturing.tolerance > 1.0:

@@ -75,20 +75,15 @@ def dotted(path: Path_) -> str:
 
 def read_design_file(path: str | Path) -> SourceDocument:
     """Read and parse a design file; errors name the file (and the line when there is one)."""
+    from camfab.files import FileRefused, read_limited
+
     path = Path(path)
     name = str(path)
     try:
-        raw = path.read_bytes()
-    except FileNotFoundError:
-        raise DesignFileError(name, "no such design file") from None
-    except IsADirectoryError:
-        raise DesignFileError(name, "is a folder, not a design file") from None
-    except OSError as exc:
-        raise DesignFileError(name, f"cannot read the design file ({exc.strerror})") from None
-    if len(raw) > MAX_DESIGN_BYTES:
-        raise DesignFileError(
-            name, f"is {len(raw):,} bytes; a design file is at most {MAX_DESIGN_BYTES:,}"
-        )
+        raw = read_limited(path, MAX_DESIGN_BYTES, "a design file")
+    except FileRefused as exc:
+        reason = "no such design file" if exc.reason == "no such file" else exc.reason
+        raise DesignFileError(name, reason) from None
     try:
         text = raw.decode("utf-8-sig")
     except UnicodeDecodeError as exc:

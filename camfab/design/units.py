@@ -34,6 +34,9 @@ class Kind:
     #: real cam, these bounds keep ω³·s‴ and similar products inside floating point.
     maximum: float | None = None
     maximum_text: str = ""
+    #: True for a lift's derivative per radian^n of cam angle: its unit may or may not name
+    #: the radians (``"5 mm/rad"`` or ``"5 mm"``; ``"0.5 rad/rad"`` cancels to a number).
+    angle_rate: bool = False
 
 
 LENGTH = Kind("a length", "mm", None, "[length]", "mm, in, cm, m", 1e6, "1 km")
@@ -65,10 +68,11 @@ def angle_rate(order: int, lift_kind: Kind) -> Kind:
         return Kind(
             f"an angle per radian{'' if order == 1 else f'^{order}'}",
             f"radian{per}", f"radian{per}", None, f"rad{per.replace('radian', 'rad')}",
+            angle_rate=True,
         )
     return Kind(
         f"a length per radian{'' if order == 1 else f'^{order}'}",
-        f"mm{per}", None, "[length]", f"mm{per.replace('radian', 'rad')}",
+        f"mm{per}", None, "[length]", f"mm{per.replace('radian', 'rad')}", angle_rate=True,
     )
 
 
@@ -151,9 +155,7 @@ def _convert_text(text: str, raw: str, kind: Kind, design_units: str) -> float:
     except (TypeError, ValueError):
         raise DesignError(f"must be {kind.name}", got=raw, allowed=_allowed(kind)) from None
     _check_finite(magnitude, raw, kind)
-    names = str(quantity.units)
-    if quantity.unitless and not any(n in names for n in _ANGLE_UNITS):
-        return magnitude * _default_factor(kind, design_units)
+    _check_unit_names(quantity, raw, kind)
     if not _has_kind(quantity, kind):
         raise DesignError(
             f"must be {kind.name}, not {_describe(quantity)}", got=raw, allowed=_allowed(kind)
@@ -172,15 +174,43 @@ def _number_and_unit(text: str) -> bool:
     return all(ch.isalpha() or ch in _UNIT_PUNCTUATION for ch in unit)
 
 
+#: Units of turning, and how many angles each holds (rpm is one angle per time).
+_TURNING = {**dict.fromkeys(_ANGLE_UNITS, 1), "revolutions_per_minute": 1,
+            "revolutions_per_second": 1}
+
+
+def _check_unit_names(quantity: Any, raw: str, kind: Kind) -> None:
+    """Refuse a unit that says nothing (``"5 mm**0"``, ``"5 turn/revolution"``: pint cancels
+    them to a bare number) and dimensionless names that are not angles (``percent``, ``ppm``,
+    ``pi``, ``count``): pint would take ``"5 percent"`` as 0.05 of nothing and ``"5 pi*mm"`` as
+    15.7 mm, arithmetic that a design's numbers do not do."""
+    items = list(quantity.unit_items())
+    if not items and not kind.angle_rate:
+        raise DesignError(f"must be {kind.name}; the unit cancels out to a bare number",
+                          got=raw, allowed=_allowed(kind))
+    ureg = registry()
+    for name, _power in items:
+        if name not in _TURNING and not ureg.get_dimensionality(name):
+            raise DesignError(f"must be {kind.name}; '{name}' is a pure number, not a unit",
+                              got=raw, allowed=_allowed(kind))
+
+
+def _angle_power(quantity: Any) -> float:
+    """How many angles the unit of *quantity* holds: 1 for deg or rpm, 2 for deg², 0 for mm."""
+    return sum(power * _TURNING.get(name, 0) for name, power in quantity.unit_items())
+
+
 def _has_kind(quantity: Any, kind: Kind) -> bool:
-    names = str(quantity.units)
-    if kind.dimensionality is None:  # angles (and angle rates): dimensionless in pint
-        return bool(quantity.dimensionless) and any(n in names for n in _ANGLE_UNITS)
+    if kind.angle_rate:  # per radian^n: the radians may be written or not
+        if kind.dimensionality is None:
+            return bool(quantity.dimensionless)
+        return bool(quantity.check(kind.dimensionality))
+    if kind.dimensionality is None:  # an angle: dimensionless in pint, one power of an angle
+        return bool(quantity.dimensionless) and _angle_power(quantity) == 1
     if kind is SPEED:
         # rpm is revolution/minute; a bare frequency (Hz, 1/s) does not say what turns.
-        turning = (*_ANGLE_UNITS, "revolutions_per_minute", "revolutions_per_second")
-        return bool(quantity.check(kind.dimensionality)) and any(n in names for n in turning)
-    return bool(quantity.check(kind.dimensionality))
+        return bool(quantity.check(kind.dimensionality)) and _angle_power(quantity) == 1
+    return bool(quantity.check(kind.dimensionality)) and _angle_power(quantity) == 0
 
 
 def _describe(quantity: Any) -> str:

@@ -94,7 +94,7 @@ def _finding_rows(findings: list[Finding]) -> list[dict[str, Any]]:
     for f in sorted(findings, key=lambda f: (f.ok, f.severity != "error")):
         row = "" if f.ok else ("fail" if f.severity == "error" else "warn")
         rows.append({"id": f.id, "severity": f.severity, "row": row,
-                     "mark": "✔" if f.ok else ("✖" if f.severity == "error" else "!"),
+                     "mark": f.mark,
                      "value": "" if f.value is None else f"{num(f.value)} {f.unit or ''}",
                      "limit": "" if f.limit is None else f"{num(f.limit)} {f.unit or ''}",
                      "where": where(f.ranges_deg[:12]) + (" …" if len(f.ranges_deg) > 12

@@ -36,9 +36,9 @@ def where(ranges: tuple[tuple[float, float], ...]) -> str:
 def _findings(analysis: Analysis) -> list[dict[str, Any]]:
     rows = []
     for f in sorted(analysis.findings, key=lambda f: (f.ok, f.severity != "error")):
-        row = "" if f.ok else ("fail" if f.severity == "error" else "warn")
-        rows.append({"id": f.id, "severity": f.severity, "row": row,
-                     "mark": "✔" if f.ok else ("✖" if f.severity == "error" else "!"),
+        row = "na" if not f.applicable else (
+            "" if f.ok else ("fail" if f.severity == "error" else "warn"))
+        rows.append({"id": f.id, "severity": f.severity, "row": row, "mark": f.mark,
                      "value": "" if f.value is None else f"{num(f.value)} {f.unit or ''}",
                      "limit": "" if f.limit is None else f"{num(f.limit)} {f.unit or ''}",
                      "where": where(f.ranges_deg), "message": f.message})

@@ -163,12 +163,15 @@ def development(d: Drum, program: MotionProgram, tolerance: float) -> Developmen
                        unrolled(alpha, d.start + m[0]), 2.0 * math.pi * d.radius, d.length)
 
 
-def row_points(d: Drum, vertices: Array, faces: Array, spacing: float) -> Array:
-    """Points on the walls of a drum's mesh (mm): its vertices, and points along each edge that
-    runs round the drum at one radius between the floor and the surface (a wall row, from one
-    station to the next), at most *spacing* (mm) apart. In a dwell the wall is flat, and one
-    face may span a degree of the drum however large the drum is: wider than the roller, which
-    would find no vertex there.
+def row_points(d: Drum, vertices: Array, faces: Array, spacing: float, alpha: Array) -> Array:
+    """Points on the walls of a drum's mesh (mm) where a roller whose axis is at the angles
+    *alpha* (rad, about Z from +Y) can touch them: the mesh's vertices, and points along each
+    edge that runs round the drum at one radius between the floor and the surface (a wall row,
+    from one station to the next), at most *spacing* (mm) apart within the roller's reach of
+    each angle. In a dwell the wall is flat, and one face may span a degree of the drum however
+    large the drum is: wider than the roller, which would find no vertex there. Only the
+    stretches within reach are filled, so a drum of any size costs points in proportion to the
+    angles, not to its circumference.
     (Edges across the rows, from the floor toward the surface, are left: the straight piece of
     a twisted quad's diagonal strays further from the wall than the rows and stations do.)"""
     radius = np.hypot(vertices[:, 0], vertices[:, 1])
@@ -179,16 +182,37 @@ def row_points(d: Drum, vertices: Array, faces: Array, spacing: float) -> Array:
     ra, rb = radius[edges[:, 0]], radius[edges[:, 1]]
     edges = edges[np.isclose(ra, rb, rtol=1e-6, atol=0.0) & _inside(d, ra)]
     start, end = vertices[edges[:, 0]], vertices[edges[:, 1]]
-    pieces = np.ceil(np.linalg.norm(end - start, axis=1) / spacing).astype(np.int64)
-    along = pieces > 1
-    if not along.any():
+    long = np.linalg.norm(end - start, axis=1) > spacing
+    if not long.any():
         return vertices
-    count = pieces[along] - 1  # the points inside each edge
-    edge = np.repeat(np.flatnonzero(along), count)
-    # 1 … count for each edge, as a fraction of its pieces
-    k = np.arange(count.sum()) - np.repeat(np.cumsum(count) - count, count) + 1
-    f = (k / np.repeat(pieces[along], count))[:, None]
+    start, end = start[long], end[long]
+    # the angles to fill: across the roller's reach of each axis angle, *spacing* apart at
+    # the surface, and their copies a turn either way (an edge may cross the seam at ±π)
+    reach = _reach(d)
+    across = np.linspace(-reach, reach, int(min(64, math.ceil(2 * reach * d.radius / spacing)))
+                         + 1)
+    wanted = (np.mod(alpha + math.pi, 2 * math.pi) - math.pi)[:, None] + across[None, :]
+    wanted = np.sort(np.concatenate([wanted.ravel() + k * 2 * math.pi for k in (-1, 0, 1)]))
+    # each edge's span of angle, unwrapped so it runs from its start the short way round
+    phi_start = np.arctan2(-start[:, 0], start[:, 1])
+    turn = np.mod(np.arctan2(-end[:, 0], end[:, 1]) - phi_start + math.pi, 2 * math.pi) - math.pi
+    low = np.minimum(phi_start, phi_start + turn)
+    first = np.searchsorted(wanted, low, side="left")
+    count = np.searchsorted(wanted, low + np.abs(turn), side="right") - first
+    if not count.any():
+        return vertices
+    edge = np.repeat(np.arange(start.shape[0]), count)
+    k = np.arange(count.sum()) - np.repeat(np.cumsum(count) - count, count)
+    angle = wanted[first[edge] + k]
+    span = np.where(turn[edge] != 0.0, turn[edge], 1.0)
+    f = np.clip((angle - phi_start[edge]) / span, 0.0, 1.0)[:, None]
     return np.vstack((vertices, start[edge] + f * (end[edge] - start[edge])))
+
+
+def _reach(d: Drum) -> float:
+    """Half the angle (rad) over which the roller can touch a wall: its radius seen from the
+    axis at the groove's floor."""
+    return math.asin(min(1.0, d.roller / d.root)) + 1e-9
 
 
 def _inside(d: Drum, r: Array) -> Mask:
@@ -215,7 +239,7 @@ def groove_lift(d: Drum, vertices: Array, theta: Array, centre: Array) -> tuple[
     # three turns side by side, so a window round the seam is one slice
     phi = np.concatenate((phi[order] - 2 * math.pi, phi[order], phi[order] + 2 * math.pi))
     r, z = np.tile(r[order], 3), np.tile(pts[order, 2], 3)
-    reach = math.asin(min(1.0, d.roller / d.root)) + 1e-9
+    reach = _reach(d)
     alpha = np.mod(d.axis_angle(theta) + math.pi, 2 * math.pi) - math.pi
     first = np.searchsorted(phi, alpha - reach)
     last = np.searchsorted(phi, alpha + reach)
