@@ -309,10 +309,12 @@ def verification_finding(analysis: Analysis, check: Verification) -> Finding:
                  f"{check.source} moves up to {lift.max_mm:.3g} mm off the design)"]
     stl = check.stl
     if stl is not None:
-        shape = ("closed, outward, no degenerate face" if stl.watertight and
-                 stl.consistent_winding and stl.degenerate_faces == 0 else
-                 f"NOT a closed outward solid (watertight: {stl.watertight}, consistent "
-                 f"winding: {stl.consistent_winding}, degenerate faces: {stl.degenerate_faces})")
+        shape = ("closed, outward, no degenerate face, short edge or sliver" if stl.watertight
+                 and stl.consistent_winding and stl.degenerate_faces == 0
+                 and stl.short_edges == 0 and stl.sliver_faces == 0 else
+                 f"NOT a clean closed outward solid (watertight: {stl.watertight}, consistent "
+                 f"winding: {stl.consistent_winding}, degenerate faces: {stl.degenerate_faces}, "
+                 f"short edges: {stl.short_edges}, sliver faces: {stl.sliver_faces})")
         parts.append(f"the STL reads back {shape}, {stl.faces} faces, "
                      f"{stl.volume_mm3:.6g} mm³ against the part's {stl.expected_volume_mm3:.6g}")
     ok = lift_ok and (stl is None or stl.ok)

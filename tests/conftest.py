@@ -1,18 +1,41 @@
-"""Shared helpers: the example designs and a way to run the command line in a temporary folder."""
+"""Shared helpers: the example designs, a way to run the command line in a temporary folder,
+every example and starter built once for the tests of the files, and the real consumer programs
+those tests run."""
 
 from __future__ import annotations
 
+import json
 import math
+import os
+import shutil
+from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import pytest
 from click.testing import CliRunner, Result
 
-from camfab.cli import main
+from camfab.cli import STARTER_KINDS, main
 
 ROOT = Path(__file__).resolve().parents[1]
 DESIGNS = ROOT / "designs"
 DESIGN_FILES = sorted(DESIGNS.glob("*.yaml"))
+
+#: Every example design (by file stem) and every starter of ``camfab new`` (``new-KIND``).
+EVERY_DESIGN = [p.stem for p in DESIGN_FILES] + [f"new-{kind}" for kind in STARTER_KINDS]
+
+#: CI sets this so that a missing consumer fails the run instead of skipping its tests.
+REQUIRED = bool(os.environ.get("CAMFAB_REQUIRE_CONSUMERS"))
+
+
+def tool(name: str, package: str | None = None) -> str:
+    """The path of the program *name*; a skip (a failure in CI) when it is not installed."""
+    path = shutil.which(name)
+    if path is None:
+        if REQUIRED:
+            pytest.fail(f"{name} is not installed")
+        pytest.skip(f"{name} is not installed (apt-get install {package or name})")
+    return path
 
 
 def run_cli(*args: str, cwd: Path | None = None) -> Result:
@@ -37,3 +60,45 @@ def rad(deg: float) -> float:
 @pytest.fixture
 def seed_10_4_text() -> str:
     return (DESIGNS / "seed-10-4.yaml").read_text()
+
+
+@dataclass(frozen=True)
+class Built:
+    """One design built into *folder*: its design, report (the JSON, parsed) and the outputs it
+    asked for and did not get (with why)."""
+
+    design: Any
+    folder: Path
+    report: dict[str, Any]
+    not_produced: tuple[str, ...]
+
+    def files(self, suffix: str) -> list[Path]:
+        """The files written with this suffix (``.dxf``, ``.svg``, ``.stl``), sorted."""
+        return sorted(self.folder.glob(f"*{suffix}"))
+
+
+@pytest.fixture(scope="session")
+def every_build(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Built]:
+    """Every example design and every starter (as ``camfab new KIND`` prints it), built once
+    for the session, each into a folder of its own, by :data:`EVERY_DESIGN` name."""
+    from camfab.design import load_design
+    from camfab.pipeline import analyse, render
+
+    root = tmp_path_factory.mktemp("every-build")
+    sources = {p.stem: p for p in DESIGN_FILES}
+    for kind in STARTER_KINDS:
+        result = run_cli("new", kind)
+        assert result.exit_code == 0, result.output
+        sources[f"new-{kind}"] = root / f"new-{kind}.yaml"
+        sources[f"new-{kind}"].write_text(result.output)
+    built = {}
+    for name, path in sources.items():
+        design = load_design(path)
+        artifacts = render(analyse(design))
+        folder = root / name
+        folder.mkdir()
+        for file_name, data in artifacts.files.items():
+            (folder / file_name).write_bytes(data)
+        report = json.loads(artifacts.files[f"{design.name}-report.json"])
+        built[name] = Built(design, folder, report, artifacts.not_produced)
+    return built

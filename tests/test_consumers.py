@@ -6,9 +6,7 @@ add-on and checked to show the cam."""
 from __future__ import annotations
 
 import math
-import os
 import re
-import shutil
 import subprocess
 from pathlib import Path
 
@@ -21,7 +19,7 @@ import trimesh
 from camfab.design import load_design
 from camfab.pipeline import analyse, render
 
-from .conftest import DESIGN_FILES
+from .conftest import DESIGN_FILES, tool
 from .dxf_loops import loops
 
 PLATES = [p for p in DESIGN_FILES if load_design(p).cam.type == "disc"
@@ -31,18 +29,6 @@ DRUMS = [p for p in DESIGN_FILES if load_design(p).cam.type == "cylindrical"
 #: Face-groove cams: plates whose groove is a pocket (their CUT layer is the plate's circle).
 GROOVES = [p for p in DESIGN_FILES if load_design(p).cam.type == "groove"]
 SOLIDS = PLATES + DRUMS + GROOVES
-
-#: CI sets this so that a missing consumer fails the run instead of skipping its tests.
-REQUIRED = bool(os.environ.get("CAMFAB_REQUIRE_CONSUMERS"))
-
-
-def tool(name: str) -> str:
-    path = shutil.which(name)
-    if path is None:
-        if REQUIRED:
-            pytest.fail(f"{name} is not installed")
-        pytest.skip(f"{name} is not installed (apt-get install {name})")
-    return path
 
 
 def written(path: Path, folder: Path):  # type: ignore[no-untyped-def]

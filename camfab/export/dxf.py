@@ -105,9 +105,13 @@ def new_document(design: Any) -> Any:
 
 
 def dxf_bytes(doc: Any) -> bytes:
-    """The drawing as bytes, the same for the same drawing on every run: ezdxf lists the CLASS
-    of each entity type in use in the order of a set of names (which changes from run to run
-    with Python's string hashing), so they are registered first, in sorted order."""
+    """The drawing as bytes, with its header's extents and page set from what it holds
+    (:mod:`camfab.export.dxf_page`); the same for the same drawing on every run: ezdxf lists the
+    CLASS of each entity type in use in the order of a set of names (which changes from run to
+    run with Python's string hashing), so they are registered first, in sorted order."""
+    from camfab.export.dxf_page import set_page
+
+    set_page(doc)
     for name in sorted(doc.entitydb.dxf_types_in_use()):
         doc.classes.add_class(name)
     stream = io.StringIO()

@@ -205,6 +205,8 @@ def _verification(analysis: Analysis) -> dict[str, Any]:
             "watertight": check.stl.watertight,
             "consistent_winding": check.stl.consistent_winding,
             "degenerate_faces": check.stl.degenerate_faces,
+            "short_edges": check.stl.short_edges,
+            "sliver_faces": check.stl.sliver_faces,
             "volume_mm3": check.stl.volume_mm3,
             "expected_volume_mm3": check.stl.expected_volume_mm3,
             "volume_allowance_mm3": check.stl.volume_allowance_mm3,

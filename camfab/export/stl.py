@@ -50,12 +50,15 @@ def circle_segments(radius: float, tolerance: float) -> int:
 
 
 def binary_stl(solid: Any) -> bytes:
-    """The solid as binary STL bytes. The file stores float32: vertices that round to the same
+    """The solid as binary STL bytes, without short edges or sliver facets
+    (:mod:`camfab.export.mesh_quality`). The file stores float32: vertices that round to the same
     float32 point become one, and the faces that then have no area (an edge collapsed, which
     keeps the surface closed) are dropped, so what is read back is the closed solid."""
     import trimesh
 
-    mesh = solid.to_mesh()
+    from camfab.export.mesh_quality import without_slivers
+
+    mesh = without_slivers(solid).to_mesh()
     vertices = np.asarray(mesh.vert_properties)[:, :3].astype(np.float32)
     tm = trimesh.Trimesh(vertices, np.asarray(mesh.tri_verts), process=False)
     tm.merge_vertices()
@@ -134,6 +137,8 @@ DEGENERATE_AREA_MM2 = 1e-10
 @dataclass(frozen=True)
 class StlCheck:
     """The STL as a reader sees it: read back from its bytes with trimesh (vertices merged).
+    ``short_edges`` and ``sliver_faces`` count what breaks the rule of
+    :mod:`camfab.export.mesh_quality` (an edge shared by two faces counts twice).
 
     ``volume_allowance_mm3`` is how far the volume may differ from the part's area × thickness:
     the tolerance along every contour, through the thickness.
@@ -143,6 +148,8 @@ class StlCheck:
     watertight: bool
     consistent_winding: bool
     degenerate_faces: int
+    short_edges: int
+    sliver_faces: int
     volume_mm3: float
     expected_volume_mm3: float
     volume_allowance_mm3: float
@@ -150,8 +157,9 @@ class StlCheck:
     @property
     def ok(self) -> bool:
         """Closed, consistently wound with outward normals (positive volume), no degenerate
-        face, and the volume of the part."""
+        face, short edge or sliver, and the volume of the part."""
         return (self.watertight and self.consistent_winding and self.degenerate_faces == 0
+                and self.short_edges == 0 and self.sliver_faces == 0
                 and abs(self.volume_mm3 - self.expected_volume_mm3) <= self.volume_allowance_mm3)
 
 
@@ -180,13 +188,18 @@ def check_stl(data: bytes, expected_mm3: float, allowance_mm3: float,
               mesh: Any = None) -> StlCheck:
     """Read *data* back as a binary STL (or take its *mesh* already read) and check it (see
     :class:`StlCheck`)."""
+    from camfab.export.mesh_quality import flaws
+
     if mesh is None:
         mesh = read_stl(data)
+    short, slivers = flaws(np.asarray(mesh.vertices, dtype=np.float64), np.asarray(mesh.faces))
     return StlCheck(
         faces=len(mesh.faces),
         watertight=bool(mesh.is_watertight),
         consistent_winding=bool(mesh.is_winding_consistent),
         degenerate_faces=int(np.count_nonzero(mesh.area_faces <= DEGENERATE_AREA_MM2)),
+        short_edges=short,
+        sliver_faces=slivers,
         volume_mm3=float(mesh.volume),
         expected_volume_mm3=expected_mm3,
         volume_allowance_mm3=allowance_mm3,

@@ -2,7 +2,8 @@
 
 The drawing is in the design's units (``width``/``height`` carry ``mm`` or ``in``), with the
 cam frame's +Y pointing up: SVG's y axis points down, so y is negated and every arc's turning
-sense with it.
+sense with it. The page (``width``, ``height``, ``viewBox``) is the contours' exact bounding box,
+arcs taken to their extremes rather than their ends, with a margin.
 """
 
 from __future__ import annotations
@@ -12,13 +13,15 @@ from xml.sax.saxutils import escape
 
 import numpy as np
 
+from camfab.arrays import Array
 from camfab.geometry.profile import Profile
 
 if TYPE_CHECKING:
     from camfab.geometry.plate import Contours
     from camfab.pipeline import Analysis
 
-#: Margin around the drawing, as a fraction of its size.
+#: Margin around the drawing (its exact bounding box), as a fraction of its size: room for the
+#: stroke's half width (a thousandth of the size) and for a reader's rounding.
 MARGIN = 0.05
 
 
@@ -48,6 +51,17 @@ def path_data(profile: Profile, scale: float) -> str:
     return " ".join(parts)
 
 
+def drawn_bounds(contours: Contours, pocket: Contours | None = None) -> tuple[Array, Array]:
+    """The exact bounding box (mm) of *contours* and the *pocket* walls: the lower-left and
+    upper-right corners, arcs to their true extremes (not just their ends)."""
+    boxes = [profile.bounds() for profile in contours.profiles]
+    if pocket is not None:
+        boxes += [profile.bounds() for profile in pocket.profiles]
+    boxes += [(np.array([-r, -r]), np.array([r, r])) for r in contours.circles]
+    return (np.min([low for low, _ in boxes], axis=0),
+            np.max([high for _, high in boxes], axis=0))
+
+
 def render_svg(analysis: Analysis, contours: Contours, pocket: Contours | None = None) -> bytes:
     """The SVG file as bytes: *contours* (mm; a disc's CUT contours, or a drum's developed
     groove) at true size, outlines only; a groove cam's *pocket* walls (to mill, not to cut
@@ -59,10 +73,7 @@ def render_svg(analysis: Analysis, contours: Contours, pocket: Contours | None =
                for radius in contours.circles]
     walls = [] if pocket is None else [f'<path d="{path_data(profile, scale)}"/>'
                                        for profile in pocket.profiles]
-    # the contours' extent; the margin also covers the arcs' slight bulge beyond their ends
-    points = np.vstack([p.vertices for p in contours.profiles]
-                       + [np.array([[-r, -r], [r, r]]) for r in contours.circles]) * scale
-    low, high = points.min(axis=0), points.max(axis=0)
+    low, high = (corner * scale for corner in drawn_bounds(contours, pocket))
     pad = MARGIN * float(np.max(high - low))
     width, height = high[0] - low[0] + 2 * pad, high[1] - low[1] + 2 * pad
     unit = design.units

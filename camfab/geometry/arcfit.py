@@ -4,7 +4,8 @@ allows, for exports that cut arcs (DXF LWPOLYLINE bulges, SVG arcs).
 Each arc passes through three of the points (its two ends and the point halfway along) and is
 accepted when every point it spans lies within the tolerance of it and it turns at most a quarter
 circle; the fitter grows each arc as far as it stays accepted (doubling, then
-halving the step). Nearly straight runs become lines.
+halving the step). Nearly straight runs, and arcs of a radius over :data:`MAX_RADIUS_RATIO` times
+the curve's size, become lines.
 """
 
 from __future__ import annotations
@@ -24,17 +25,20 @@ MAX_SWEEP = math.pi / 2
 #: 1e-9 the difference is far below any tolerance camfab accepts.
 STRAIGHT = 1e-9
 
-#: The largest arc radius written (mm); a flatter arc is a line if the line holds the tolerance.
-#: A DXF gives an arc by its centre, radius and angles, and a reader recomputes its ends from
-#: them, about 1e-16 of the radius off: at 10¹¹ mm (a nearly straight run of a large part)
-#: 10⁻⁵ mm, past the reader's gap (``camfab.export.dxf.READ_GAP``), and the outline no longer
-#: closes; at 10⁹ mm 10⁻⁷ mm.
-MAX_RADIUS = 1e9
+#: The largest arc radius written, as a multiple of the size of the curve fitted (the largest
+#: side of its points' bounding box); a flatter arc is a line if the line holds the tolerance,
+#: else shorter lines and arcs. A DXF gives an arc by its centre, radius and angles, and a
+#: reader recomputes its ends from them: one that reads them in single precision (dime, and
+#: the programs built on it) is off by some 4e-7 of the radius, which for the arcs of 10⁴ to
+#: 10⁵ times the part's size a nearly straight run gave placed them 0.1 to 0.2 mm off. At 100
+#: times the size it is 4e-5 of the size, under 0.01 mm on a 200 mm part.
+MAX_RADIUS_RATIO = 100.0
 
 
-def _arc_error(points: Array, start: int, end: int) -> tuple[float, float]:
+def _arc_error(points: Array, start: int, end: int, max_radius: float) -> tuple[float, float]:
     """The largest distance (mm) of points[start..end] from the arc through the ends and the
-    middle point, and that arc's bulge (0 for a line)."""
+    middle point, and that arc's bulge (0 for a line, and for an arc of a radius over
+    *max_radius* (mm), measured as the line)."""
     x0, y0 = points[start]
     x1, y1 = points[end]
     xm, ym = points[(start + end) // 2]
@@ -56,7 +60,7 @@ def _arc_error(points: Array, start: int, end: int) -> tuple[float, float]:
     ux = (cy * a2 - ay * b2) / d
     uy = (ax * b2 - cx * a2) / d
     radius = math.hypot(ux, uy)
-    if radius > MAX_RADIUS:  # as a line (accepted only where the line holds the tolerance)
+    if radius > max_radius:  # as a line (accepted only where the line holds the tolerance)
         off = np.abs((inner[:, 0] - x0) * cy - (inner[:, 1] - y0) * cx) / length
         return float(off.max()), 0.0
     error = float(np.max(np.abs(np.hypot(inner[:, 0] - (x0 + ux), inner[:, 1] - (y0 + uy))
@@ -84,6 +88,7 @@ def fit_arcs(points: Array, tolerance: float, closed: bool = True) -> Profile:
         closing edge (back to the first) is not part of the curve.
     """
     chain = np.vstack((points, points[:1])) if closed else points
+    max_radius = MAX_RADIUS_RATIO * float(np.max(np.ptp(chain, axis=0)))
     last = len(chain) - 1
     vertices, bulges = [], []
     start = 0
@@ -93,7 +98,7 @@ def fit_arcs(points: Array, tolerance: float, closed: bool = True) -> Profile:
         bad = None
         while True:
             end = min(start + step, last)
-            error, bulge = _arc_error(chain, start, end)
+            error, bulge = _arc_error(chain, start, end, max_radius)
             if error <= tolerance:
                 good, good_bulge = end, bulge
                 if end == last:
@@ -106,7 +111,7 @@ def fit_arcs(points: Array, tolerance: float, closed: bool = True) -> Profile:
             lo, hi = good, bad
             while hi - lo > 1:
                 middle = (lo + hi) // 2
-                error, bulge = _arc_error(chain, start, middle)
+                error, bulge = _arc_error(chain, start, middle, max_radius)
                 if error <= tolerance:
                     lo, good, good_bulge = middle, middle, bulge
                 else:

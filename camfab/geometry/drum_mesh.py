@@ -10,6 +10,7 @@ of the walls developed at the surface, the faster-moving outer wall deciding.
 
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass
 
@@ -64,21 +65,27 @@ def stations(d: Drum, program: MotionProgram, tolerance: float) -> Array:
 
 
 def _rows(d: Drum, theta: Array, m: Array, tolerance: float) -> Array:
-    """Radii of the wall rows: the floor to the surface in equal steps, as many as keep the
-    straight pieces between rows within *tolerance* (mm) of the wall, then one row beyond.
-    There is always a row between the floor and the surface: the read-back check
-    (:func:`groove_lift`) runs the roller over the wall vertices strictly between them."""
+    """Radii of the wall rows (mm): from the floor in equal steps to half a step beyond the
+    surface, as many as keep the straight pieces between rows within *tolerance* (mm) of the
+    wall, then one row further out.
+
+    No row lies on the surface: the drum's surface (chords of its circle) would cross the faces
+    next to such a row a fraction of the tolerance from its vertices, and the subtraction would
+    leave edges of a micrometre and less along the groove's edge. The surface cuts the last
+    piece halfway instead. There is always a row between the floor and the surface: the
+    read-back check (:func:`groove_lift`) runs the roller over the wall vertices strictly
+    between them."""
     outer = d.radius + max(SURFACE_MARGIN_MM, 0.1 * d.depth)
     count = 2
     while True:
-        radii = np.linspace(d.root, d.radius, count + 1)
-        mid = 0.5 * (radii[:-1] + radii[1:])
+        step = d.depth / (count + 0.5)
+        radii = d.root + step * np.arange(count + 2)  # the last, half a step past the surface
         worst = 0.0
-        for lo, hi, centre in zip(radii[:-1], radii[1:], mid, strict=True):
-            a, b, c = (_points(d, theta, m, r) for r in (lo, hi, centre))
+        for lo, hi in itertools.pairwise(radii):
+            a, b, c = (_points(d, theta, m, r) for r in (lo, hi, 0.5 * (lo + hi)))
             worst = max(worst, float(np.max(np.linalg.norm(0.5 * (a + b) - c, axis=-1))))
         if worst <= tolerance or count >= 64:
-            return np.append(radii, outer)
+            return radii if outer <= radii[-1] else np.append(radii, outer)
         count *= 2
 
 

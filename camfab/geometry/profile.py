@@ -100,6 +100,25 @@ class Profile:
         rel = start - centre
         return Arcs(index, centre, radius, np.arctan2(rel[:, 1], rel[:, 0]), sweep)
 
+    def bounds(self) -> tuple[Array, Array]:
+        """The exact bounding box (mm): its lower-left and upper-right corners, (2,) each.
+
+        An arc reaches beyond its ends where it crosses the axis directions (0, 90, 180 and
+        270° about its centre): those points count, not just the vertices.
+        """
+        points = [self.vertices]
+        arcs = self.arcs()
+        if arcs.index.size:
+            quarter = np.arange(4) * (np.pi / 2)
+            # turn from each arc's start to each axis direction, the way the arc turns
+            turn = np.mod((quarter[None, :] - arcs.start_angle[:, None])
+                          * np.sign(arcs.sweep)[:, None], 2 * np.pi)
+            row, column = np.nonzero(turn <= np.abs(arcs.sweep)[:, None])
+            direction = np.stack((np.cos(quarter), np.sin(quarter)), axis=-1)
+            points.append(arcs.centre[row] + arcs.radius[row, None] * direction[column])
+        every = np.concatenate(points)
+        return every.min(axis=0), every.max(axis=0)
+
     def distance(self, points: Array) -> Array:
         """Distance (mm) of each of (K, 2) *points* from the contour, arcs measured as arcs.
 

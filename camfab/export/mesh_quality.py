@@ -1,0 +1,109 @@
+"""Short edges and sliver facets: what mesh checkers and slicers stumble on, and their removal.
+
+A boolean of two independently tessellated solids (a drum's polygonal surface less the groove's
+tube) puts new vertices where the edges of each cross the faces of the other. Along the line
+where the surfaces meet, a crossing of one can fall a micrometre or less from a crossing of the
+other: the facets between them are slivers, which an STL's float32 coordinates can fold over,
+and FreeCAD's mesh check then reports the solid self-intersecting. The rule every STL camfab
+writes keeps (:data:`MIN_EDGE_MM`, :data:`MIN_ALTITUDE_MM`), and :func:`without_slivers` makes a
+solid keep it, moving no corner further than half the shortest edge allowed.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from camfab.arrays import Array, Index
+
+#: No edge is shorter than this (mm): FreeCAD's mesh module calls edges shorter than 1 µm
+#: (``MESH_MIN_EDGE_LEN``) too short; the edges a tolerance-sampled cam needs are far longer.
+MIN_EDGE_MM = 1e-3
+
+#: No facet is thinner than this (mm): its smallest altitude (a corner's distance from the
+#: opposite edge). An STL stores float32 coordinates, rounded by up to 4e-6 mm on a part of
+#: 64 mm and 1.5e-5 mm on one of 256 mm; a facet within a few such roundings of a line can fold
+#: over when read back (FreeCAD's checks see self-intersections, admesh flips normals). A plate's
+#: extruded faces have long thin triangles between tolerance-sampled outline points, down to
+#: about 1e-3 mm thick, which no slicer minds; 1e-4 mm stays well below those.
+MIN_ALTITUDE_MM = 1e-4
+
+#: Rounds of repair before giving up; one has always been enough for camfab's solids.
+_MAX_ROUNDS = 8
+
+
+def edge_lengths(vertices: Array, faces: Index) -> Array:
+    """(F, 3) lengths (mm) of each facet's edges: edge k runs from corner k to corner k + 1."""
+    corners = vertices[faces]
+    return np.linalg.norm(np.roll(corners, -1, axis=1) - corners, axis=2)
+
+
+def altitudes(vertices: Array, faces: Index, lengths: Array | None = None) -> Array:
+    """(F,) smallest altitude (mm) of each facet: twice its area over its longest edge."""
+    corners = vertices[faces]
+    if lengths is None:
+        lengths = edge_lengths(vertices, faces)
+    area2 = np.linalg.norm(np.cross(corners[:, 1] - corners[:, 0],
+                                    corners[:, 2] - corners[:, 0]), axis=1)
+    return area2 / np.maximum(lengths.max(axis=1), 1e-300)
+
+
+def flaws(vertices: Array, faces: Index) -> tuple[int, int]:
+    """The number of edges shorter than :data:`MIN_EDGE_MM` (an edge shared by two facets
+    counts twice) and of facets thinner than :data:`MIN_ALTITUDE_MM`."""
+    lengths = edge_lengths(vertices, faces)
+    return (int(np.count_nonzero(lengths < MIN_EDGE_MM)),
+            int(np.count_nonzero(altitudes(vertices, faces, lengths) < MIN_ALTITUDE_MM)))
+
+
+def without_slivers(solid: Any) -> Any:
+    """*solid* (a ``manifold3d.Manifold``) without edges shorter than :data:`MIN_EDGE_MM` or
+    facets thinner than :data:`MIN_ALTITUDE_MM`, still a closed 2-manifold.
+
+    The ends of each short edge (of each cluster of them) move to their middle, and the corner
+    of a thin facet opposite its longest edge moves onto that edge, so the facet has no area;
+    manifold3d, building the solid again, collapses the edges of no length and swaps away the
+    facets of no area. A corner moves by less than :data:`MIN_EDGE_MM` along the line where two
+    surfaces meet, or by less than :data:`MIN_ALTITUDE_MM` across a facet. Should a round leave
+    the solid broken, or the flaws outlast :data:`_MAX_ROUNDS`, the last good solid is returned,
+    flaws and all, for the STL's read-back check to report.
+    """
+    import manifold3d
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    for _ in range(_MAX_ROUNDS):
+        mesh = solid.to_mesh64()
+        vertices = np.array(mesh.vert_properties, dtype=np.float64)[:, :3]
+        faces = np.asarray(mesh.tri_verts, dtype=np.int64)
+        lengths = edge_lengths(vertices, faces)
+        short = lengths < MIN_EDGE_MM
+        thin = (altitudes(vertices, faces, lengths) < MIN_ALTITUDE_MM) & ~short.any(axis=1)
+        if not short.any() and not thin.any():
+            return solid
+        # a thin facet's corner opposite its longest edge, onto that edge (once per corner)
+        rows = np.flatnonzero(thin)
+        longest = np.argmax(lengths[rows], axis=1)
+        apex, first = np.unique(faces[rows, (longest + 2) % 3], return_index=True)
+        a = faces[rows, longest][first]
+        b = faces[rows, (longest + 1) % 3][first]
+        along = vertices[b] - vertices[a]
+        t = (np.einsum("ij,ij->i", vertices[apex] - vertices[a], along)
+             / np.einsum("ij,ij->i", along, along))
+        vertices[apex] = vertices[a] + t[:, None] * along
+        # the ends of short edges, to the middle of each cluster of them
+        ends = np.concatenate([faces[short[:, k]][:, [k, (k + 1) % 3]] for k in range(3)])
+        count = len(vertices)
+        graph = coo_matrix((np.ones(len(ends)), (ends[:, 0], ends[:, 1])), shape=(count, count))
+        groups, label = connected_components(graph, directed=False)
+        sums = np.zeros((groups, 3))
+        np.add.at(sums, label, vertices)
+        vertices = (sums / np.bincount(label, minlength=groups)[:, None])[label]
+        repaired = manifold3d.Manifold(manifold3d.Mesh64(
+            vert_properties=np.ascontiguousarray(vertices),
+            tri_verts=np.ascontiguousarray(faces, dtype=np.uint64)))
+        if repaired.status() != manifold3d.Error.NoError:
+            return solid  # as it was: the STL's read-back check reports what is left
+        solid = repaired
+    return solid
