@@ -158,3 +158,27 @@ def test_two_designs_of_one_name_in_a_batch_are_not_both_written(tmp_path: Path)
     assert "seed-poly-345  INVALID" in result.stdout
     assert "seed-poly-345  OK" in result.stdout
     assert (tmp_path / "out" / "seed-poly-345.dxf").is_file()
+
+
+# ---- the user's environment --------------------------------------------------------------------
+
+@pytest.mark.parametrize("content", [b"garbage\n", b"\xff\xfe[\x00c\x00", b"[core]\nx = 1\nx = 2\n"])
+def test_a_damaged_ezdxf_config_changes_nothing(tmp_path: Path, content: bytes) -> None:
+    """ezdxf reads ezdxf.ini from the user's config folder and the working directory when it is
+    imported; a damaged one must neither fail the build nor change its bytes."""
+    home = tmp_path / "home"
+    (home / ".config" / "ezdxf").mkdir(parents=True)
+    (home / ".config" / "ezdxf" / "ezdxf.ini").write_bytes(content)
+    work = tmp_path / "work"
+    work.mkdir()
+    (work / "ezdxf.ini").write_bytes(content)
+    design = str(DESIGNS / "seed-poly-345.yaml")
+    env = {**os.environ, "HOME": str(home), "XDG_CONFIG_HOME": str(home / ".config")}
+    env.pop("CAMFAB_DEBUG", None)
+    run = subprocess.run([sys.executable, "-m", "camfab", "build", design, "-o", "out"],
+                         cwd=work, env=env, capture_output=True, text=True, check=False)
+    assert run.returncode == 0 and run.stderr == "", run.stderr
+    clean = run_cli("build", design, "-o", "clean", cwd=tmp_path)
+    assert clean.exit_code == 0
+    for name in ("seed-poly-345.dxf", "seed-poly-345.svg", "seed-poly-345.stl"):
+        assert (work / "out" / name).read_bytes() == (tmp_path / "clean" / name).read_bytes()

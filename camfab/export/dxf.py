@@ -94,8 +94,9 @@ def add_contours(msp: Any, contours: Contours, scale: float, layer: str) -> None
 
 def new_document(design: Any) -> Any:
     """An R2010 drawing in the design's units with camfab's layers."""
-    import ezdxf
+    from camfab.export.ezdxf_import import load_ezdxf
 
+    ezdxf = load_ezdxf()
     doc = ezdxf.new("R2010", setup=["linetypes"])
     doc.header["$INSUNITS"] = INSUNITS[design.units]
     doc.header["$MEASUREMENT"] = 1 if design.units == "mm" else 0
@@ -229,8 +230,9 @@ def _strip_volatile(text: str) -> str:
 def read_cut_outline(data: bytes, mm_per_unit: float) -> Profile:
     """The largest closed contour on layer CUT of a DXF (the cam outline), in mm (see
     :func:`layer_loops`)."""
-    import ezdxf
+    from camfab.export.ezdxf_import import load_ezdxf
 
+    ezdxf = load_ezdxf()
     loops = layer_loops(ezdxf.read(io.StringIO(data.decode("utf-8"))).modelspace(), "CUT",
                         mm_per_unit)
     if not loops:

@@ -119,8 +119,9 @@ class GrooveDrawing:
 def read_groove_dxf(data: bytes, mm_per_unit: float) -> GrooveDrawing:
     """Read a groove cam's DXF back: every layer's lines and arcs chained into loops by ezdxf's
     edge miner, as a reader of the file would."""
-    import ezdxf
+    from camfab.export.ezdxf_import import load_ezdxf
 
+    ezdxf = load_ezdxf()
     doc = ezdxf.read(io.StringIO(data.decode("utf-8")))
     msp = doc.modelspace()
     circles = sorted((float(c.dxf.radius) * mm_per_unit

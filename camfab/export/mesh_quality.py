@@ -69,10 +69,6 @@ def without_slivers(solid: Any) -> Any:
     the solid broken, or the flaws outlast :data:`_MAX_ROUNDS`, the last good solid is returned,
     flaws and all, for the STL's read-back check to report.
     """
-    import manifold3d
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import connected_components
-
     for _ in range(_MAX_ROUNDS):
         mesh = solid.to_mesh64()
         vertices = np.array(mesh.vert_properties, dtype=np.float64)[:, :3]
@@ -82,6 +78,11 @@ def without_slivers(solid: Any) -> Any:
         thin = (altitudes(vertices, faces, lengths) < MIN_ALTITUDE_MM) & ~short.any(axis=1)
         if not short.any() and not thin.any():
             return solid
+        # imported only for a solid that needs the repair (a drum's boolean)
+        import manifold3d
+        from scipy.sparse import coo_matrix
+        from scipy.sparse.csgraph import connected_components
+
         # a thin facet's corner opposite its longest edge, onto that edge (once per corner)
         rows = np.flatnonzero(thin)
         longest = np.argmax(lengths[rows], axis=1)

@@ -186,7 +186,9 @@ def _read_dxf(name: str, data: bytes, units: str | None, default_units: str,
               layer: str | None) -> Outline:
     import io
 
-    import ezdxf
+    from camfab.export.ezdxf_import import load_ezdxf
+
+    ezdxf = load_ezdxf()
     from ezdxf.lldxf.const import DXFError
 
     try:
