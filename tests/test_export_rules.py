@@ -207,10 +207,11 @@ def test_no_dxf_arc_is_a_near_straight_giant_and_the_cut_holds_the_tolerance(
     verification = built.report["verification"]
     tolerance = built.design.manufacturing.tolerance
     check = next(c for c in built.report["checks"] if c["id"] == "verification")
-    assert check["ok"], check["message"]
     # (an undercut plate's outline is trimmed on purpose and has none; a drum's groove that
-    # folds over has walls that cross, which the development cannot follow)
-    folded = any(c["id"] == "groove" and not c["ok"] for c in built.report["checks"])
+    # folds over has walls that cross, which the development cannot follow, and no cam whose
+    # motion its files could hold: its verification does not apply)
+    folded = any(c["id"] == "groove" and c["ok"] is False for c in built.report["checks"])
+    assert check["ok"] or (folded and check.get("applicable") is False), check["message"]
     if verification["cut_outline_max_deviation_mm"] is not None and not folded:
         assert verification["cut_outline_max_deviation_mm"] <= tolerance
 

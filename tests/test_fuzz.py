@@ -294,9 +294,9 @@ BUILD_REGRESSIONS = [
     ("drum-60-m", variant("designs/demo-cylindrical.yaml", cam__radius=60_000,
                           manufacturing={"tolerance": 0.1}), 1),
     # shaped.py: a tangent cam's lift of 1e-17 mm, where cos(lift_angle) rounds to 1, divided
-    # by zero
+    # by zero (its STL, open at the nose's slivers until mesh_quality.py, now reads back closed)
     ("tangent-lift-1e-17", variant("starters/tangent.yaml", cam__lift=1.2e-17,
-                                   cam__lift_angle=6e-8), 1),
+                                   cam__lift_angle=6e-8), 0),
     # plate.py: a tangent cam's lift of 1e-12 mm left a corner of rounding in its exact
     # outline, whose exact offset for the laser's kerf then raised
     ("tangent-picometre-lift-with-kerf",

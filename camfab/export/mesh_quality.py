@@ -5,7 +5,7 @@ tube) puts new vertices where the edges of each cross the faces of the other. Al
 where the surfaces meet, a crossing of one can fall a micrometre or less from a crossing of the
 other: the facets between them are slivers, which an STL's float32 coordinates can fold over,
 and FreeCAD's mesh check then reports the solid self-intersecting. The rule every STL camfab
-writes keeps (:data:`MIN_EDGE_MM`, :data:`MIN_ALTITUDE_MM`), and :func:`without_slivers` makes a
+writes keeps (:data:`MIN_EDGE_MM`, :func:`min_altitude`), and :func:`without_slivers` makes a
 solid keep it, moving no corner further than half the shortest edge allowed.
 """
 
@@ -29,8 +29,23 @@ MIN_EDGE_MM = 1e-3
 #: about 1e-3 mm thick, which no slicer minds; 1e-4 mm stays well below those.
 MIN_ALTITUDE_MM = 1e-4
 
+#: The repair removes facets up to this many times thinner than the check's limit allows, so
+#: that the float32 rounding of the file cannot take a facet it kept back under the limit.
+REPAIR_MARGIN = 2.0
+
 #: Rounds of repair before giving up; one has always been enough for camfab's solids.
 _MAX_ROUNDS = 8
+
+
+def min_altitude(vertices: Array) -> float:
+    """The thinnest facet allowed (mm) on a solid with these *vertices*: :data:`MIN_ALTITUDE_MM`,
+    or, on a part so large that an STL's float32 rounds its coordinates by more (from 512 mm
+    from the origin on), twice that rounding at its farthest coordinate: a facet thinner
+    than the file can place its corners is not a facet the file holds."""
+    if vertices.size == 0:
+        return MIN_ALTITUDE_MM
+    farthest = np.float32(np.max(np.abs(vertices)))
+    return max(MIN_ALTITUDE_MM, 2.0 * float(np.spacing(farthest)))
 
 
 def edge_lengths(vertices: Array, faces: Index) -> Array:
@@ -51,21 +66,22 @@ def altitudes(vertices: Array, faces: Index, lengths: Array | None = None) -> Ar
 
 def flaws(vertices: Array, faces: Index) -> tuple[int, int]:
     """The number of edges shorter than :data:`MIN_EDGE_MM` (an edge shared by two facets
-    counts twice) and of facets thinner than :data:`MIN_ALTITUDE_MM`."""
+    counts twice) and of facets thinner than :func:`min_altitude`."""
     lengths = edge_lengths(vertices, faces)
-    return (int(np.count_nonzero(lengths < MIN_EDGE_MM)),
-            int(np.count_nonzero(altitudes(vertices, faces, lengths) < MIN_ALTITUDE_MM)))
+    thin = altitudes(vertices, faces, lengths) < min_altitude(vertices)
+    return int(np.count_nonzero(lengths < MIN_EDGE_MM)), int(np.count_nonzero(thin))
 
 
 def without_slivers(solid: Any) -> Any:
     """*solid* (a ``manifold3d.Manifold``) without edges shorter than :data:`MIN_EDGE_MM` or
-    facets thinner than :data:`MIN_ALTITUDE_MM`, still a closed 2-manifold.
+    facets thinner than :data:`REPAIR_MARGIN` × :func:`min_altitude`, still a closed
+    2-manifold.
 
     The ends of each short edge (of each cluster of them) move to their middle, and the corner
     of a thin facet opposite its longest edge moves onto that edge, so the facet has no area;
     manifold3d, building the solid again, collapses the edges of no length and swaps away the
     facets of no area. A corner moves by less than :data:`MIN_EDGE_MM` along the line where two
-    surfaces meet, or by less than :data:`MIN_ALTITUDE_MM` across a facet. Should a round leave
+    surfaces meet, or by less than the repair's limit across a facet. Should a round leave
     the solid broken, or the flaws outlast :data:`_MAX_ROUNDS`, the last good solid is returned,
     flaws and all, for the STL's read-back check to report.
     """
@@ -75,7 +91,8 @@ def without_slivers(solid: Any) -> Any:
         faces = np.asarray(mesh.tri_verts, dtype=np.int64)
         lengths = edge_lengths(vertices, faces)
         short = lengths < MIN_EDGE_MM
-        thin = (altitudes(vertices, faces, lengths) < MIN_ALTITUDE_MM) & ~short.any(axis=1)
+        limit = REPAIR_MARGIN * min_altitude(vertices)
+        thin = (altitudes(vertices, faces, lengths) < limit) & ~short.any(axis=1)
         if not short.any() and not thin.any():
             return solid
         # imported only for a solid that needs the repair (a drum's boolean)
