@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -172,3 +173,25 @@ def test_module_entry_point_runs() -> None:
                             capture_output=True, text=True, cwd=ROOT)
     assert result.returncode == 0, result.stderr
     assert "polynomial-23" in result.stdout
+
+
+def test_numpy_warnings_stay_off_the_terminal() -> None:
+    """An overflow deep in a computation on extreme values is numpy's RuntimeWarning on stderr
+    unless camfab keeps it there: the user sees the one line of the outcome only. (In a process
+    of its own: pytest would catch the warnings itself.)"""
+    script = (
+        "import numpy as np\n"
+        "from camfab.batch import Outcome\n"
+        "from camfab.cli import _guarded\n"
+        "def work():\n"
+        "    with np.errstate(all='warn'):\n"
+        "        np.float64(1e308) * np.float64(10.0)\n"
+        "        np.log(np.zeros(1))\n"
+        "    return Outcome(0)\n"
+        "assert _guarded('d.yaml', work).code == 0\n"
+        "print('done')\n")
+    env = {k: v for k, v in os.environ.items() if k != "CAMFAB_DEBUG"}
+    run = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
+                         check=False, env=env)
+    assert run.returncode == 0 and run.stdout == "done\n"
+    assert run.stderr == "", run.stderr
