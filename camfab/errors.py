@@ -92,6 +92,16 @@ class DesignFileError(CamfabError, OSError):
         super().__init__(f"{file}: {problem}")
 
 
+class InputFileError(CamfabError, OSError):
+    """An input file refused before it is read: ``FILE: problem`` (missing, a folder, not a
+    regular file, or larger than the reader takes)."""
+
+    def __init__(self, file: str, problem: str) -> None:
+        self.file = file
+        self.problem = problem
+        super().__init__(" ".join(f"{file}: {problem}".split()))
+
+
 class OutputError(CamfabError, OSError):
     """Outputs that cannot be written (no permission, disk full, a file in the way)."""
 

@@ -1,97 +1,93 @@
 """Reading the files a user names: regular files only, of bounded size.
 
-A design, a table law's CSV, an outline to inspect or a follower file is read whole into memory.
-A path to a device (``/dev/zero``, ``/dev/urandom``), a FIFO or a socket would never end or never
-start; a huge file would exhaust memory. :func:`read_limited` refuses them before reading: it
-checks what the path is without opening it (opening a FIFO blocks until a writer comes), opens it
-without blocking, checks again what was opened, and reads at most the limit.
+A path in a design or on the command line may name anything: a FIFO that blocks until someone
+writes to it, a device that never ends (``/dev/zero``, ``/dev/urandom``), a folder, a file of
+gigabytes. A design, a table law's CSV, an outline to inspect and a follower file are read whole
+into memory, so they are read only when they are regular files no larger than the reader's
+limit, and then at most that many bytes (a file that grows while it is read is refused too).
+What the path is, is checked before it is opened (opening a device may do something), and again
+on what was opened, which is opened without blocking.
 """
 
 from __future__ import annotations
 
-import errno
 import os
 import stat
 from pathlib import Path
 
+from camfab.errors import InputFileError
 
-class FileRefused(OSError):
-    """A path that is not a readable regular file within the limit; ``reason`` says why in a few
-    words that fit after the file's name (``"is a FIFO, not a file"``)."""
+#: Flags of the one open of an input file: read only, and without blocking, so that opening a
+#: FIFO with no writer returns at once (to be refused); the flags a platform lacks are left out.
+_OPEN_FLAGS = (os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_CLOEXEC", 0)
+               | getattr(os, "O_BINARY", 0))
 
-    def __init__(self, reason: str) -> None:
-        super().__init__(reason)
-        self.reason = reason
-
-
-_KINDS = ((stat.S_ISDIR, "is a folder, not a file"),
-          (stat.S_ISFIFO, "is a FIFO (a pipe), not a file"),
-          (stat.S_ISCHR, "is a device, not a file"),
-          (stat.S_ISBLK, "is a device, not a file"),
-          (stat.S_ISSOCK, "is a socket, not a file"))
+#: What a path that is not a regular file is, by the test of its mode.
+_KINDS = ((stat.S_ISFIFO, "a FIFO (a pipe)"), (stat.S_ISCHR, "a device"),
+          (stat.S_ISBLK, "a device"), (stat.S_ISSOCK, "a socket"))
 
 
-def _kind_problem(mode: int) -> str | None:
-    for test, reason in _KINDS:
-        if test(mode):
-            return reason
-    return None if stat.S_ISREG(mode) else "is not a regular file"
-
-
-def read_limited(path: str | Path, limit: int, what: str = "file") -> bytes:
-    """The bytes of the regular file at *path*, which may hold at most *limit* bytes.
+def read_bounded(path: str | Path, limit: int, what: str) -> bytes:
+    """The bytes of the regular file *path* (symbolic links followed), at most *limit* of them.
 
     Parameters
     ----------
-    path
-        The file; symbolic links are followed.
     limit
-        The largest size accepted, in bytes.
+        Largest size accepted (bytes).
     what
-        How the reason names the file when it is too large (``"a design file"``).
+        What the file should be, for messages (``"a design file"``, ``"a DXF or CSV outline"``).
 
     Raises
     ------
-    FileRefused
-        Missing, unreadable, not a regular file, or larger than *limit*; ``reason`` says which.
+    InputFileError
+        The file is missing, unreadable, a folder, not a regular file, or larger than *limit*.
     """
+    check_bounded(path, limit, what)
+    name = str(path)
     try:
-        mode = os.stat(path).st_mode
+        fd = os.open(path, _OPEN_FLAGS)
     except FileNotFoundError:
-        raise FileRefused("no such file") from None
-    except OSError as exc:
-        raise FileRefused(f"cannot be read ({exc.strerror or exc})") from None
-    problem = _kind_problem(mode)
-    if problem is not None:
-        raise FileRefused(problem)
-    flags = os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_BINARY", 0)
+        raise InputFileError(name, "no such file") from None
+    except (OSError, ValueError) as exc:
+        raise InputFileError(name, _unreadable(exc)) from None
     try:
-        fd = os.open(path, flags)
-    except OSError as exc:
-        if exc.errno == errno.ENOENT:
-            raise FileRefused("no such file") from None
-        raise FileRefused(f"cannot be read ({exc.strerror or exc})") from None
-    try:
-        info = os.fstat(fd)
-        problem = _kind_problem(info.st_mode)  # replaced between the stat and the open
-        if problem is not None:
-            raise FileRefused(problem)
-        if info.st_size > limit:
-            raise FileRefused(f"is {info.st_size:,} bytes; {what} is at most {limit:,}")
-        chunks = []
-        size = 0
-        while size <= limit:  # a file growing while read stops at the limit too
-            chunk = os.read(fd, min(1 << 20, limit + 1 - size))
-            if not chunk:
-                break
-            chunks.append(chunk)
-            size += len(chunk)
-    except OSError as exc:
-        if isinstance(exc, FileRefused):
-            raise
-        raise FileRefused(f"cannot be read ({exc.strerror or exc})") from None
-    finally:
+        _check_regular(name, os.fstat(fd), limit, what)  # replaced since it was looked at?
+    except InputFileError:
         os.close(fd)
-    if size > limit:
-        raise FileRefused(f"is over {limit:,} bytes; {what} is at most {limit:,}")
-    return b"".join(chunks)
+        raise
+    with os.fdopen(fd, "rb") as stream:
+        try:
+            data = stream.read(limit + 1)
+        except OSError as exc:
+            raise InputFileError(name, _unreadable(exc)) from None
+    if len(data) > limit:  # it grew since it was looked at
+        raise InputFileError(name, f"is larger than {limit:,} bytes; {what} is at most that")
+    return data
+
+
+def check_bounded(path: str | Path, limit: int, what: str) -> None:
+    """Refuse *path* unless it is a regular file of at most *limit* bytes, without opening it
+    (for a file another reader then reads). Raises :class:`InputFileError` as
+    :func:`read_bounded` does."""
+    name = str(path)
+    try:
+        info = os.stat(path)
+    except FileNotFoundError:
+        raise InputFileError(name, "no such file") from None
+    except (OSError, ValueError) as exc:  # ValueError: a NUL in the name
+        raise InputFileError(name, _unreadable(exc)) from None
+    _check_regular(name, info, limit, what)
+
+
+def _check_regular(name: str, info: os.stat_result, limit: int, what: str) -> None:
+    if stat.S_ISDIR(info.st_mode):
+        raise InputFileError(name, f"is a folder, not {what}")
+    if not stat.S_ISREG(info.st_mode):
+        kind = next((word for test, word in _KINDS if test(info.st_mode)), "something else")
+        raise InputFileError(name, f"is not a regular file but {kind}; {what} must be a file")
+    if info.st_size > limit:
+        raise InputFileError(name, f"is {info.st_size:,} bytes; {what} is at most {limit:,}")
+
+
+def _unreadable(exc: Exception) -> str:
+    return f"cannot be read ({getattr(exc, 'strerror', None) or exc})"

@@ -10,6 +10,7 @@ coordinates. Nothing is written unless everything was read and computed.
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -44,6 +45,32 @@ KERF_OFFSET_TOLERANCE_MM = 1e-3
 #: The lift table's row step when neither the command line nor a design gives one: 1°, like the
 #: design's motion table.
 DEFAULT_STEP = math.radians(1.0)
+
+#: ``--step`` (deg): from 0.01° (36,000 rows, the follower run at each) to 30°, a design's
+#: largest ``table_step``. The angles the follower is run at grow as 1/step.
+STEP_RANGE_DEG = (0.01, 30.0)
+
+#: ``--smooth`` (deg): from 0.1°, the step the follower is run at (a window of less is that of
+#: two steps), to 30°; the fit over the window costs its width in steps at every angle.
+SMOOTH_RANGE_DEG = (0.1, 30.0)
+
+#: Largest kerf (mm): a laser's is a few tenths of a millimetre, a plasma cutter's a few.
+MAX_KERF_MM = 10.0
+
+#: Most pairs of an outline's edges whose bounding boxes overlap (estimated from a sample of
+#: its edges) for it to be checked for crossing itself: GEOS's test takes some 30 ns a pair. A
+#: smooth outline's edges overlap only their neighbours' (200,000 points: some 600,000 pairs);
+#: a star of long spikes, or points out of order, overlap thousands each.
+MAX_OVERLAPS = 50_000_000
+
+#: Edges sampled for that estimate.
+OVERLAP_SAMPLES = 256
+
+#: Most the direction of an outline may turn, in all (rad: 300 turns), for a kerf to be taken
+#: off it. A beam's path is smooth (one turn, and a little more where it is concave); a jagged
+#: one (the noise of a dense scan, random points) makes the offset's round joins cross each
+#: other so often that it could take minutes.
+MAX_KERF_TURNING = 600.0 * math.pi
 
 
 @dataclass(frozen=True)
@@ -105,15 +132,26 @@ def inspect(options: InspectOptions) -> InspectResult:
     from camfab.export.inspection_csv import render_lift_csv
     from camfab.export.inspection_html import render_inspection_html
     from camfab.export.inspection_json import render_inspection_json
+    from camfab.geometry.simulate import SimulationTooLarge
     from camfab.pipeline import write_files
 
-    prepared = prepare(options)
-    inspection = inspect_profile(prepared.profile, prepared.setup, prepared.reference,
-                                 options.align)
-    stem = options.profile.stem
-    files = {f"{stem}-lift.csv": render_lift_csv(inspection),
-             f"{stem}-inspection.json": render_inspection_json(inspection, prepared),
-             f"{stem}-inspection.html": render_inspection_html(inspection, prepared)}
+    with warnings.catch_warnings():
+        # numpy's warnings on degenerate numbers are not messages for the user: what they
+        # warn of is refused with one line, or does not matter to the result
+        warnings.simplefilter("ignore", RuntimeWarning)
+        prepared = prepare(options)
+        try:
+            inspection = inspect_profile(prepared.profile, prepared.setup, prepared.reference,
+                                         options.align)
+        except SimulationTooLarge as exc:
+            raise InspectionError(str(options.profile), f"the outline is too jagged to run the "
+                                  f"follower over ({exc}): are its points in order along it? "
+                                  "(a smooth outline of any number of points needs far fewer)"
+                                  ) from None
+        stem = options.profile.stem
+        files = {f"{stem}-lift.csv": render_lift_csv(inspection),
+                 f"{stem}-inspection.json": render_inspection_json(inspection, prepared),
+                 f"{stem}-inspection.html": render_inspection_html(inspection, prepared)}
     folder = options.out_dir or Path("exports") / f"{stem}-inspection"
     return InspectResult(inspection, prepared, folder, write_files(folder, files))
 
@@ -121,9 +159,14 @@ def inspect(options: InspectOptions) -> InspectResult:
 def prepare(options: InspectOptions) -> Prepared:
     """Read the design, the follower file and the outline, and resolve the setup."""
     from camfab.design import load_design
+    from camfab.design.source import MAX_DESIGN_BYTES
     from camfab.export.outline import read_outline
+    from camfab.files import check_bounded
 
-    design = load_design(options.design) if options.design is not None else None
+    design = None
+    if options.design is not None:
+        check_bounded(options.design, MAX_DESIGN_BYTES, "a design file")
+        design = load_design(options.design)
     analysis = None
     if design is not None:
         from camfab.pipeline import analyse
@@ -156,10 +199,10 @@ def prepare(options: InspectOptions) -> Prepared:
         raise InspectionError(str(options.follower_file), f"rotation: must be ccw or cw (got "
                               f"{rotation!r})")
     speed_rpm = _speed(options, extra, design)
-    step = _angle("--step", options.step) if options.step else (
-        design.table_step if design else DEFAULT_STEP)
-    smooth = _angle("--smooth", options.smooth) if options.smooth else (
-        SMOOTH_POINTS if outline.points_only else SMOOTH_DRAWING)
+    step = _step(options, design)
+    smooth = (_angle("--smooth", options.smooth, SMOOTH_RANGE_DEG)
+              if options.smooth is not None
+              else SMOOTH_POINTS if outline.points_only else SMOOTH_DRAWING)
     limit = (design.pressure_angle_limit if design is not None
              else math.radians(35.0 if follower.oscillating else 30.0))
     setup = InspectionSetup(follower, 1 if rotation == "ccw" else -1,
@@ -186,19 +229,16 @@ def _follower_file(path: Path) -> dict[str, Any]:
     ``follower:``, and optionally ``units``, ``rotation``, ``speed_rpm``, ``tolerance``."""
     from camfab.design.source import MAX_DESIGN_BYTES, compose_yaml
     from camfab.errors import DesignError, did_you_mean
+    from camfab.files import read_bounded
 
     name = str(path)
+    raw = read_bounded(path, MAX_DESIGN_BYTES, "a follower file")
     try:
-        raw = path.read_bytes()
-        if len(raw) > MAX_DESIGN_BYTES:
-            raise InspectionError(name, f"is {len(raw):,} bytes; a follower file is at most "
-                                  f"{MAX_DESIGN_BYTES:,}")
         # read as a design is, within the same limits of size, depth and aliases
         _, data, _ = compose_yaml(raw.decode("utf-8-sig"), name)
-    except FileNotFoundError:
-        raise InspectionError(name, "no such file") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InspectionError(name, f"cannot be read ({exc})") from None
+    except UnicodeDecodeError:
+        raise InspectionError(name, "is not a text file (a follower file is YAML in UTF-8)"
+                              ) from None
     except DesignError as exc:
         line = exc.location.line if exc.location is not None else None
         raise InspectionError(f"{name}:{line}" if line else name, exc.problem) from None
@@ -304,8 +344,9 @@ def _length_or_none(what: str, raw: str | None, units: str, positive: bool = Fal
     return None if raw is None else _length(what, raw, units, positive=positive)
 
 
-def _angle(what: str, raw: str) -> float:
-    """An angle (rad) from a number of degrees or a string with a unit, > 0."""
+def _angle(what: str, raw: str, range_deg: tuple[float, float]) -> float:
+    """An angle (rad) from a number of degrees or a string with a unit, within *range_deg*
+    (deg, both ends included)."""
     from camfab.design.units import ANGLE, convert
     from camfab.errors import DesignError
 
@@ -313,9 +354,25 @@ def _angle(what: str, raw: str) -> float:
         value = convert(raw, ANGLE)
     except DesignError as exc:
         raise InspectionError(what, str(exc)) from None
-    if not 0.0 < value <= math.pi / 2:
-        raise InspectionError(what, f"must be more than 0° and at most 90° (got {raw})")
+    low, high = range_deg
+    if not math.radians(low) * (1 - 1e-12) <= value <= math.radians(high) * (1 + 1e-12):
+        raise InspectionError(what, f"must be from {low:g}° to {high:g}° (got {raw})")
     return value
+
+
+def _step(options: InspectOptions, design: Design | None) -> float:
+    """The lift table's row step (rad): ``--step``, else the design's ``table_step`` (within the
+    same range: a design may tabulate its motion more finely than inspect runs), else 1°."""
+    if options.step is not None:
+        return _angle("--step", options.step, STEP_RANGE_DEG)
+    if design is None:
+        return DEFAULT_STEP
+    low, high = STEP_RANGE_DEG
+    step_deg = math.degrees(design.table_step)
+    if not low * (1 - 1e-12) <= step_deg <= high * (1 + 1e-12):
+        raise InspectionError(f"{options.design}: table_step", f"{step_deg:g}° is outside the "
+                              f"rows inspect tabulates (from {low:g}° to {high:g}°); give --step")
+    return design.table_step
 
 
 def _speed(options: InspectOptions, extra: dict[str, Any], design: Design | None
@@ -345,8 +402,13 @@ def _centre(raw: str | None, mm_per_unit: float) -> tuple[float, float]:
     except ValueError:
         raise InspectionError("--centre", f"must be X,Y in the outline's coordinates (got "
                               f"{raw!r})") from None
+    from camfab.export.outline import MAX_COORDINATE_MM
+
     if not (math.isfinite(x) and math.isfinite(y)):
         raise InspectionError("--centre", f"must be finite (got {raw!r})")
+    if not max(abs(x), abs(y)) * mm_per_unit <= MAX_COORDINATE_MM:
+        raise InspectionError("--centre", f"must lie within {MAX_COORDINATE_MM:,.0f} mm of the "
+                              f"origin (got {raw!r})")
     return (x * mm_per_unit, y * mm_per_unit)
 
 
@@ -357,19 +419,40 @@ def _part(options: InspectOptions, outline: Outline, units: str) -> tuple[Profil
     drawing's note declares)."""
     from camfab.geometry.plate import inside_kerf
 
+    name = str(options.profile)
     if options.kerf is not None:
-        kerf = _length("--kerf", options.kerf, units)
+        kerf, what = _length("--kerf", options.kerf, units), "--kerf"
         source = "--kerf"
-    elif outline.kerf_mm is not None:
-        kerf, source = outline.kerf_mm, "the drawing's note (CUT offset for a kerf)"
+    elif outline.kerf_note is not None:
+        kerf = outline.kerf_note.kerf_mm(name)
+        what = f"{name}: {outline.kerf_note.entity}: the note's kerf"
+        source = "the drawing's note (CUT offset for a kerf)"
     else:
         return outline.profile, 0.0, "none"
-    if kerf < 0.0:
-        raise InspectionError("--kerf", f"must be ≥ 0 (got {options.kerf})")
+    if not 0.0 <= kerf <= MAX_KERF_MM:
+        raise InspectionError(what, f"must be from 0 to {MAX_KERF_MM:g} mm (got {kerf:g} mm)")
     if kerf == 0.0:
         return outline.profile, 0.0, source
-    part = inside_kerf(outline.profile, kerf, KERF_OFFSET_TOLERANCE_MM)
+    turning = _turning(outline.profile)
+    if turning > MAX_KERF_TURNING:
+        raise InspectionError(what, f"cannot be taken off an outline this jagged: its direction "
+                              f"turns {turning / (2 * math.pi):,.0f} times round in all (at most "
+                              f"{MAX_KERF_TURNING / (2 * math.pi):,.0f}); a beam's path is smooth")
+    try:
+        part = inside_kerf(outline.profile, kerf, KERF_OFFSET_TOLERANCE_MM, split_lines=False)
+    except ValueError as exc:
+        raise InspectionError(what, f"{exc} (kerf/2 is wider than the part)") from None
     return part.ccw(), kerf, source
+
+
+def _turning(profile: Profile) -> float:
+    """How far (rad) the direction of *profile* turns in all, one way or the other: 2π for a
+    convex outline."""
+    import numpy as np
+
+    start, end = profile.normal_angles()
+    corners = np.mod(start - np.roll(end, 1) + math.pi, 2.0 * math.pi) - math.pi
+    return float(np.sum(np.abs(corners)) + np.sum(np.abs(profile.arcs().sweep)))
 
 
 def _centred(profile: Profile, centre: tuple[float, float], path: Path) -> Profile:
@@ -380,7 +463,15 @@ def _centred(profile: Profile, centre: tuple[float, float], path: Path) -> Profi
     from camfab.geometry.undercut import is_simple
 
     moved = P(profile.vertices - np.array(centre), profile.bulges)
-    chain = moved.points(KERF_OFFSET_TOLERANCE_MM)
+    chain = moved.points(KERF_OFFSET_TOLERANCE_MM, split_lines=False)
+    if len(np.unique(chain, axis=0)) < 3:
+        raise InspectionError(str(path), "the outline encloses no area (fewer than three "
+                              "distinct points)")
+    overlaps = _overlapping_edges(chain)
+    if overlaps > MAX_OVERLAPS:
+        raise InspectionError(str(path), f"the outline is too jagged to check: its edges' boxes "
+                              f"overlap in some {overlaps:.2g} pairs (at most {MAX_OVERLAPS:.2g}"
+                              "); are the points in order along the outline?")
     if not is_simple(chain):
         raise InspectionError(str(path), "the outline crosses itself (are the points in order "
                               "along the outline?)")
@@ -388,6 +479,22 @@ def _centred(profile: Profile, centre: tuple[float, float], path: Path) -> Profi
         raise InspectionError(str(path), f"the cam centre ({centre[0]:.6g}, {centre[1]:.6g}) mm "
                               "lies outside the outline; give it with --centre X,Y")
     return moved
+
+
+def _overlapping_edges(chain: Any) -> float:
+    """About how many pairs of the closed polyline *chain*'s edges have overlapping bounding
+    boxes (the work of a test for self-crossing): counted for every so many edges
+    (:data:`OVERLAP_SAMPLES` of them), scaled to all."""
+    import numpy as np
+
+    following = np.roll(chain, -1, axis=0)
+    (x0, y0), (x1, y1) = np.minimum(chain, following).T, np.maximum(chain, following).T
+    picked = np.arange(0, len(chain), max(1, len(chain) // OVERLAP_SAMPLES))
+    count = 0
+    for k in picked.tolist():
+        count += int(np.count_nonzero((x0 <= x1[k]) & (x1 >= x0[k]) & (y0 <= y1[k])
+                                      & (y1 >= y0[k])))
+    return count / len(picked) * len(chain)
 
 
 def _inside(chain: Any) -> bool:

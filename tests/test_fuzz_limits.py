@@ -301,8 +301,8 @@ FILE_MESSAGES = [
     ("parent", "must name a file in the design file's folder"),
     ("symlink-outside", "must name a file in the design file's folder"),
     ("symlink-device", "must name a file in the design file's folder"),
-    ("fifo", "fifo.csv is a FIFO (a pipe), not a file"),
-    ("folder", "folder.csv is a folder, not a file"),
+    ("fifo", "fifo.csv is not a regular file but a FIFO (a pipe); a table must be a file"),
+    ("folder", "folder.csv is a folder, not a table"),
     ("huge", "huge.csv is 1,100,"),
     ("many-rows", "more than 20,000 rows"),
     ("binary", "not a UTF-8 text file"),
@@ -333,7 +333,7 @@ def test_a_fifo_as_the_design_file_is_refused_at_once(tmp_path: Path) -> None:
     for device in ("design.yaml", "/dev/zero", "/dev/urandom"):
         run = run_bounded(["build", device], tmp_path, 10)
         assert run.code == 2, run.describe()
-        assert run.err.strip().startswith(f"{device}: is a "), run.err
+        assert run.err.strip().startswith(f"{device}: is not a regular file but "), run.err
         assert run.cpu_seconds < 5, run.describe()
     assert sorted(p.name for p in tmp_path.iterdir()) == ["design.yaml"]
 

@@ -357,7 +357,8 @@ def test_oscillating_follower_from_the_command_line(built, tmp_path: Path) -> No
 @pytest.mark.parametrize(("text", "said"), [
     # an alias bomb: a billion values from a few lines
     ("a: &a [1,1,1,1,1,1,1,1,1,1]\n" + "".join(
-        f"{n}: &{n} [{','.join(['*' + p] * 10)}]\n" for p, n in zip("abcdefgh", "bcdefghi")),
+        f"{n}: &{n} [{','.join(['*' + p] * 10)}]\n"
+        for p, n in zip("abcdefgh", "bcdefghi", strict=True)),
      "expand to more than 100,000 values"),
     ("[" * 100_000, "nested too deeply"),
     ("type: [roller\n", "invalid YAML"),

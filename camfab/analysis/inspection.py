@@ -57,6 +57,15 @@ REFERENCE_REFINEMENT = 64.0
 #: Peaks of |deviation| listed per excursion over the tolerance in the reports.
 MAX_EXCURSIONS = 50
 
+#: Most (piece, cam angle) pairs one run of the follower over an outline may try: some two
+#: seconds of work. A smooth outline needs a few per piece (100,000 points on a circle: some
+#: 10,000); only an outline of long spikes about the centre (a star, random points) needs more.
+MAX_PAIRS = 10_000_000
+
+#: The alignment's trial turns compare the motion at every this many angles of the grid (0.4°):
+#: a least-squares fit over 900 angles, at a quarter of the cost of each trial.
+ALIGN_THINNING = 4
+
 
 @dataclass(frozen=True)
 class InspectionSetup:
@@ -142,6 +151,7 @@ class Inspection:
     deviation_mm: Array | None = None
     align: float | None = None
     findings: list[Finding] = field(default_factory=list)
+    lift_from: str = "the outline's smallest radius (its base circle)"
 
     @property
     def oscillating(self) -> bool:
@@ -222,21 +232,24 @@ def derivatives(values: Array, step: float, smooth: float) -> tuple[Array, Array
 
 
 def run_follower(profile: Profile, follower: FollowerGeometry, theta: Array,
-                 sigma: int) -> Array:
+                 sigma: int, what: str = "the outline") -> Array:
     """The trace point's height (mm) or arm angle (rad) on *profile* at cam angles *theta*.
 
     Raises
     ------
     InspectionError
-        The follower misses the outline at some angle (its line of motion or arm clears it).
+        The follower misses the outline (*what*, in the message) at some angle: its line of
+        motion or arm clears it.
+    SimulationTooLarge
+        The outline is so jagged that the run would try more than :data:`MAX_PAIRS` pairs.
     """
     from camfab.geometry.simulate import simulate
 
-    position = simulate(profile, follower, theta, sigma)
+    position = simulate(profile, follower, theta, sigma, MAX_PAIRS)
     missing = ~np.isfinite(position)
     if missing.any():
         where = ", ".join(f"{a:.4g}–{b:.4g}°" for a, b in ranges_deg(theta, missing)[:3])
-        raise InspectionError("follower", f"does not touch the outline at cam angles {where} "
+        raise InspectionError("follower", f"does not touch {what} at cam angles {where} "
                               "(check the offset, pivot and the outline's centre)")
     return position
 
@@ -249,7 +262,8 @@ def align_phase(profile: Profile, follower: FollowerGeometry, theta: Array, sigm
     Turning the cam by α in its direction of rotation advances its motion by α:
     ``position'(θ) = position(θ + α)``. The best whole grid step comes from the circular
     cross-correlation (FFT), refined by a parabola through the neighbouring steps and then by
-    running the follower over the outline turned by each trial angle.
+    running the follower over the outline turned by each trial angle (compared every
+    :data:`ALIGN_THINNING` grid angles).
     """
     from scipy.optimize import minimize_scalar
 
@@ -263,12 +277,14 @@ def align_phase(profile: Profile, follower: FollowerGeometry, theta: Array, sigm
     shift = k + (0.5 * (lo - hi) / curve if curve > 0 else 0.0)
     guess = math.remainder(shift * step, 2.0 * math.pi)
 
+    sparse, target = theta[::ALIGN_THINNING], reference[::ALIGN_THINNING]
+
     def misfit(alpha: float) -> float:
         turned = turn(profile, alpha, sigma)
-        return float(np.mean((run_follower(turned, follower, theta, sigma) - reference) ** 2))
+        return float(np.mean((run_follower(turned, follower, sparse, sigma) - target) ** 2))
 
     found = minimize_scalar(misfit, bounds=(guess - step, guess + step), method="bounded",
-                            options={"xatol": 1e-6})
+                            options={"xatol": 1e-5})
     return float(found.x)
 
 
@@ -295,25 +311,73 @@ def inspect_profile(profile: Profile, setup: InspectionSetup, reference: Referen
         profile = turn(profile, alpha, sigma)
         position = run_follower(profile, fol, theta, sigma)
     measured_base = float(profile.distance(np.zeros((1, 2)))[0])
-    base = measured_base if reference is None else reference.base_radius
+    base, lift_from = base_circle(fol, measured_base, position, reference)
     cam = DiscCam(fol, base, sigma)
-    if not math.isfinite(cam.rest):
-        raise InspectionError("follower", "cannot rest on the base circle of radius "
-                              f"{base:.6g} mm (its offset or pivot puts it beyond the prime "
-                              "circle)")
     lift = position - cam.rest
     first, second = derivatives(lift, float(theta[1] - theta[0]), setup.smooth)
     motion = np.vstack((lift, first, second, np.zeros_like(lift)))
     contact = cam.working(theta, motion).xy
     inspection = Inspection(setup, profile, theta, rows, position, cam.rest, base, measured_base,
                             motion, cam.pressure_angle(theta, motion),
-                            cam.pitch(theta, motion).radius, contact, reference, align=alpha)
+                            cam.pitch(theta, motion).radius, contact, reference, align=alpha,
+                            lift_from=lift_from)
     if design is not None:
         deviation = position - design
         scale = fol.arm_length if fol.oscillating else 1.0
         inspection = replace(inspection, design_lift=design - cam.rest, deviation=deviation,
                              deviation_mm=deviation * scale)
     return replace(inspection, findings=inspection_findings(inspection))
+
+
+def base_circle(follower: FollowerGeometry, smallest_radius: float, position: Array,
+                reference: Reference | None) -> tuple[float, str]:
+    """The base circle (radius, mm) lift is measured from, and a sentence saying which.
+
+    With a design, the design's base circle. Without one, the outline's *smallest_radius* (mm);
+    when the follower cannot rest on a circle that small (its offset or pivot keeps it off, and
+    the smallest radius lies in a notch it cannot enter), the circle it rests on at its lowest
+    *position* (mm or rad) over the turn.
+
+    Raises
+    ------
+    InspectionError
+        The follower cannot rest on the design's base circle.
+    """
+    if reference is not None:
+        if not math.isfinite(_rest(follower, reference.base_radius)):
+            raise InspectionError("follower", "cannot rest on the design's base circle of radius "
+                                  f"{reference.base_radius:.6g} mm (its offset or pivot puts it "
+                                  "beyond the prime circle)")
+        return reference.base_radius, "the design's base circle"
+    if math.isfinite(_rest(follower, smallest_radius)):
+        return smallest_radius, "the outline's smallest radius (its base circle)"
+    lowest = float(np.min(position))
+    base = _base_under(follower, lowest)
+    if not (base > 0.0 and math.isfinite(_rest(follower, base))):
+        raise InspectionError("follower", "cannot rest on a base circle of the outline (its "
+                              "offset or pivot keeps it beyond every circle about the centre)")
+    return base, (f"the follower's lowest position (it cannot reach the outline's smallest "
+                  f"radius, {smallest_radius:.6g} mm)")
+
+
+def _rest(follower: FollowerGeometry, base_radius: float) -> float:
+    """The follower's rest position on a base circle (mm or rad), NaN where it has none."""
+    try:
+        return follower.rest_position(base_radius)
+    except ValueError:  # math domain: the circle is out of the follower's reach
+        return math.nan
+
+
+def _base_under(follower: FollowerGeometry, lowest: float) -> float:
+    """The radius (mm) of the base circle whose rest position is *lowest* (mm or rad): the
+    inverse of :meth:`FollowerGeometry.rest_position`."""
+    r = follower.radius
+    if not follower.oscillating:
+        return lowest if follower.flat else math.hypot(follower.offset, lowest) - r
+    a, arm = follower.pivot_distance, follower.arm_length
+    if follower.flat:
+        return a * math.sin(lowest) - follower.face_offset
+    return math.sqrt(max(a * a + arm * arm - 2.0 * a * arm * math.cos(lowest), 0.0)) - r
 
 
 def inspection_findings(ins: Inspection) -> list[Finding]:
@@ -388,6 +452,6 @@ def design_reference(analysis: Analysis, follower: FollowerGeometry) -> Referenc
     sigma = cam.sigma
 
     def simulated(theta: Array) -> Array:
-        return run_follower(profile, follower, theta, sigma)
+        return run_follower(profile, follower, theta, sigma, f"the design's cam ({name})")
 
     return Reference(simulated, cam.base_radius, source, name, profile)

@@ -251,7 +251,8 @@ class _Shaper:
     def _table_text(self, path: Path_, name: str) -> str:
         """The text of a table law's CSV file *name*: a regular file of at most
         :data:`MAX_TABLE_BYTES` in the design file's folder or below it."""
-        from camfab.files import FileRefused, read_limited
+        from camfab.errors import InputFileError
+        from camfab.files import read_bounded
 
         folder = self.doc.folder.resolve()
         file = (folder / name).resolve()
@@ -259,9 +260,9 @@ class _Shaper:
             self.fail(path, "must name a file in the design file's folder or below it (a "
                       "relative path such as 'lift.csv' or 'data/lift.csv')", got=name)
         try:
-            return read_limited(file, MAX_TABLE_BYTES, "a table").decode("utf-8-sig")
-        except FileRefused as exc:
-            self.fail(path, f"cannot read the table: {name} {exc.reason}")
+            return read_bounded(file, MAX_TABLE_BYTES, "a table").decode("utf-8-sig")
+        except InputFileError as exc:
+            self.fail(path, f"cannot read the table: {name} {exc.problem}")
         except UnicodeDecodeError:
             self.fail(path, f"cannot read the table: {name} is not a UTF-8 text file")
 

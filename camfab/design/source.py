@@ -75,15 +75,16 @@ def dotted(path: Path_) -> str:
 
 def read_design_file(path: str | Path) -> SourceDocument:
     """Read and parse a design file; errors name the file (and the line when there is one)."""
-    from camfab.files import FileRefused, read_limited
+    from camfab.errors import InputFileError
+    from camfab.files import read_bounded
 
     path = Path(path)
     name = str(path)
     try:
-        raw = read_limited(path, MAX_DESIGN_BYTES, "a design file")
-    except FileRefused as exc:
-        reason = "no such design file" if exc.reason == "no such file" else exc.reason
-        raise DesignFileError(name, reason) from None
+        raw = read_bounded(path, MAX_DESIGN_BYTES, "a design file")
+    except InputFileError as exc:
+        problem = "no such design file" if exc.problem == "no such file" else exc.problem
+        raise DesignFileError(name, problem) from None
     try:
         text = raw.decode("utf-8-sig")
     except UnicodeDecodeError as exc:

@@ -36,11 +36,11 @@ def outline_drawing(ins: Inspection, title: str) -> str:
     fig = Figure(9.0, 6.4, "outline", left=0.09, right=0.68, bottom=0.08)
     [ax] = fig.subplots()
     ax.set_aspect("equal")
-    ring = _ring(ins.profile.points(0.01))
+    ring = _ring(ins.profile.points(0.01, split_lines=False))
     ax.fill(ring[:, 0], ring[:, 1], color="#f4d6d2", zorder=0)
     ax.plot(ring[:, 0], ring[:, 1], color=CUT, linewidth=1.2, label="outline inspected")
     if ins.reference is not None:
-        design = _ring(ins.reference.profile.points(0.01))
+        design = _ring(ins.reference.profile.points(0.01, split_lines=False))
         ax.plot(design[:, 0], design[:, 1], color=PITCH, linewidth=0.8, linestyle="--",
                 label=f"design ({ins.reference.name})")
     angle = np.linspace(0, 2 * math.pi, 361)

@@ -83,8 +83,7 @@ def inspection_dict(ins: Inspection, prepared: Prepared) -> dict[str, Any]:
             "grid_step_deg": _r(math.degrees(float(ins.theta[1] - ins.theta[0]))),
             "smooth_deg": _r(math.degrees(ins.setup.smooth)),
             "derivatives": METHOD.format(smooth=math.degrees(ins.setup.smooth)),
-            "lift_from": ("the design's base circle" if ins.reference is not None
-                          else "the outline's smallest radius (its base circle)"),
+            "lift_from": ins.lift_from,
         },
         "design": _design(ins, prepared),
         "motion": _motion(ins, units),

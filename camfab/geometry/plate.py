@@ -141,9 +141,19 @@ def plate(design: Design, geom: DiscGeometry) -> Plate:
     return Plate(outline, part_holes, cut, toolpath, kerf)
 
 
-def inside_kerf(beam: Profile, kerf: float, tolerance: float) -> Profile:
+def inside_kerf(beam: Profile, kerf: float, tolerance: float, split_lines: bool = True
+                ) -> Profile:
     """The part a beam following the outline *beam* (mm) leaves: the region shrunk by kerf/2,
-    as a contour of lines within *tolerance* (mm) of the exact offset."""
+    as a contour of lines within *tolerance* (mm) of the exact offset (its lines cut as finely
+    as its arcs unless *split_lines* is False: see :meth:`Profile.points`).
+
+    Raises
+    ------
+    ValueError
+        Nothing is left: kerf/2 is wider than the region.
+    """
     share = OFFSET_SHARE * tolerance
-    rings = grow(beam.points(share), -kerf / 2.0, share)
+    rings = grow(beam.points(share, split_lines), -kerf / 2.0, share)
+    if not rings:
+        raise ValueError(f"a kerf of {kerf:g} mm leaves nothing of the outline")
     return Profile.from_points(max(rings, key=len))

@@ -154,12 +154,14 @@ class Profile:
             best = np.minimum(best, np.min(np.where(inside, gap, np.inf), axis=1))
         return best
 
-    def points(self, tolerance: float) -> Array:
+    def points(self, tolerance: float, split_lines: bool = True) -> Array:
         """The contour as a closed chain of points (mm), in order, without a repeated closing
         point: its arcs cut into chords within *tolerance* (mm), and its lines into pieces no
         longer than those chords, so the chain samples lines as finely as arcs (an arc fit of
         the chain, after an offset say, then cannot bow away from a long line between two of
-        its points). A contour of lines only gives its vertices."""
+        its points). A contour of lines only gives its vertices; so do its lines with
+        *split_lines* False (for a test or a drawing of the chain, which needs no more, and whose
+        points then do not grow without bound when every arc is tiny)."""
         arcs = self.arcs()
         if not arcs.index.size:
             return self.vertices.copy()
@@ -167,7 +169,7 @@ class Profile:
                                      tolerance)[:-1]
                   for k, i in enumerate(arcs.index)}
         chords = [np.hypot(*np.diff(c, axis=0).T) for c in chains.values() if len(c) > 1]
-        gap = max((float(c.max()) for c in chords), default=math.inf)
+        gap = max((float(c.max()) for c in chords), default=math.inf) if split_lines else math.inf
         following = np.roll(self.vertices, -1, axis=0)
         pieces = []
         for i, vertex in enumerate(self.vertices):

@@ -33,6 +33,18 @@ TWO_PI = 2.0 * math.pi
 #: Pairs evaluated at once; bounds the memory of a simulation to some tens of megabytes.
 _CHUNK = 400_000
 
+
+class SimulationTooLarge(ValueError):
+    """The follower would be tried at more (piece, cam angle) pairs than the caller allows: an
+    outline so jagged that most of its pieces may touch the follower over wide ranges of angles
+    (a smooth outline of any number of points needs a few per piece)."""
+
+    def __init__(self, pairs: int, limit: int) -> None:
+        self.pairs = pairs
+        self.limit = limit
+        super().__init__(f"the follower would be tried at {pairs:,} or more (piece, cam angle) "
+                         f"pairs; at most {limit:,} are")
+
 #: Slack on spans and windows (rad) and on the fraction along an edge, so contact exactly at a
 #: piece's end is not lost to rounding (a knife has no corner caps to catch it).
 _SLACK = 1e-9
@@ -121,12 +133,14 @@ class OffsetPieces:
 class _Grid:
     """The cam angles of a simulation with their rotations, and the best position found so far."""
 
-    def __init__(self, theta: Array, sigma: int) -> None:
+    def __init__(self, theta: Array, sigma: int, max_pairs: int | None = None) -> None:
         self.theta = theta
         self.sigma = sigma
         self.cos = np.cos(sigma * theta)
         self.sin = np.sin(sigma * theta)
         self.best = np.full(theta.size, -np.inf)
+        self.max_pairs = max_pairs
+        self.pairs = 0
 
     def frame(self, points: Array, k: Index) -> Array:
         """Cam-frame *points* seen in the frame at the angles of index *k*."""
@@ -153,11 +167,22 @@ class _Grid:
         k0 = np.searchsorted(extended, start, side="left")
         k1 = np.searchsorted(extended, start + width, side="right")
         n = np.where(width >= TWO_PI, count, np.minimum(k1 - k0, count))
-        piece = np.repeat(np.arange(len(lo)), n)
-        first = np.repeat(k0 - np.concatenate(([0], np.cumsum(n)[:-1])), n)
-        index = (first + np.arange(int(n.sum()))) % count
-        for at in range(0, piece.size, _CHUNK):
-            yield piece[at:at + _CHUNK], index[at:at + _CHUNK]
+        self.pairs += int(n.sum())
+        if self.max_pairs is not None and self.pairs > self.max_pairs:
+            raise SimulationTooLarge(self.pairs, self.max_pairs)
+        # the pairs of a run of pieces at a time, about _CHUNK of them: never all at once
+        ends = np.cumsum(n)
+        cuts = np.searchsorted(ends, np.arange(_CHUNK, int(ends[-1]) if ends.size else 0,
+                                               _CHUNK), side="left") + 1
+        bounds = np.unique(np.concatenate(([0], cuts, [len(n)])))
+        for p0, p1 in zip(bounds[:-1].tolist(), bounds[1:].tolist(), strict=True):
+            some = n[p0:p1]
+            size = int(some.sum())
+            if size == 0:
+                continue
+            piece = np.repeat(np.arange(p0, p1), some)
+            first = np.repeat(k0[p0:p1] - np.concatenate(([0], np.cumsum(some)[:-1])), some)
+            yield piece, (first + np.arange(size)) % count
 
     def turned(self, lo: Array, hi: Array) -> Iterator[tuple[Index, Index]]:
         """(piece, angle index) pairs for pieces active while σθ lies in [lo, hi] (rad)."""
@@ -168,7 +193,8 @@ class _Grid:
         np.maximum.at(self.best, k[ok], value[ok])
 
 
-def simulate(profile: Profile, follower: FollowerGeometry, theta: Array, sigma: int) -> Array:
+def simulate(profile: Profile, follower: FollowerGeometry, theta: Array, sigma: int,
+             max_pairs: int | None = None) -> Array:
     """Where the follower is at each cam angle of *theta* when pressed onto *profile*.
 
     Parameters
@@ -181,14 +207,22 @@ def simulate(profile: Profile, follower: FollowerGeometry, theta: Array, sigma: 
         Cam angles (rad), increasing, within [0, 2π).
     sigma
         +1 for a counter-clockwise cam, −1 for clockwise.
+    max_pairs
+        Most (piece, cam angle) pairs to evaluate (None: no limit); the work and memory of a
+        simulation grow with them.
 
     Returns
     -------
     Array
         Translating: the trace point's height (mm; for a flat face, the face's height).
         Oscillating: the arm angle Ψ (rad). NaN where the follower touches nothing.
+
+    Raises
+    ------
+    SimulationTooLarge
+        More than *max_pairs* pairs would be evaluated (found before they are).
     """
-    grid = _Grid(np.asarray(theta, dtype=np.float64), sigma)
+    grid = _Grid(np.asarray(theta, dtype=np.float64), sigma, max_pairs)
     prof = profile.ccw()
     if follower.flat and follower.oscillating:
         _swinging_face(prof, follower, grid)
@@ -338,7 +372,7 @@ def _swinging_face(profile: Profile, fol: FollowerGeometry, grid: _Grid) -> None
     first."""
     pivot = np.array([fol.pivot_sign * fol.pivot_distance, 0.0])
     corners, arriving, cone, circles = _support_pieces(profile)
-    coarse = _Grid(np.arange(0.0, TWO_PI, _COARSE_STEP), grid.sigma)
+    coarse = _Grid(np.arange(0.0, TWO_PI, _COARSE_STEP), grid.sigma, grid.max_pairs)
     some = corners[::_COARSE_THINNING]
     _touch_face(coarse, some, circles, fol, pivot, np.full(len(some), -math.pi),
                 np.full(len(some), math.pi), np.full(len(circles), -math.pi),
