@@ -1,8 +1,8 @@
 """Designs at the edges build with the same verified accuracy: a 2 mm cam and a 2 m one, inch
 units, a program of a thousand segments, an offset of a nanometre, a rise–return program with no
-dwell, and a drum of 2.4 m with an 8 mm roller. Each must build every file, the follower run over its DXF read back must stay within the
-tolerance, its CUT outline must lie within the tolerance of the exact curve, and its STL must
-read back closed and of the part's volume.
+dwell, and a drum of 2.4 m with an 8 mm roller. Each must build every file, the follower run over
+its DXF read back must stay within the tolerance, its CUT outline must lie within the tolerance
+of the exact curve, and its STL must read back closed and of the part's volume.
 """
 
 from __future__ import annotations

@@ -162,7 +162,8 @@ def test_two_designs_of_one_name_in_a_batch_are_not_both_written(tmp_path: Path)
 
 # ---- the user's environment --------------------------------------------------------------------
 
-@pytest.mark.parametrize("content", [b"garbage\n", b"\xff\xfe[\x00c\x00", b"[core]\nx = 1\nx = 2\n"])
+@pytest.mark.parametrize("content", [b"garbage\n", b"\xff\xfe[\x00c\x00",
+                                     b"[core]\nx = 1\nx = 2\n"])
 def test_a_damaged_ezdxf_config_changes_nothing(tmp_path: Path, content: bytes) -> None:
     """ezdxf reads ezdxf.ini from the user's config folder and the working directory when it is
     imported; a damaged one must neither fail the build nor change its bytes."""
