@@ -25,6 +25,8 @@ ROOT = Path(__file__).resolve().parents[1]
 #: Address space a child may map (bytes): the interpreter with numpy, scipy, shapely, ezdxf and
 #: matplotlib maps some 1.5 GB, a run's arrays a few hundred megabytes more.
 ADDRESS_SPACE = 4 * 1024**3
+#: The same for a child forked from the test process, which maps what that process has mapped.
+FORKED_ADDRESS_SPACE = 8 * 1024**3
 
 
 @dataclass(frozen=True)
@@ -38,6 +40,11 @@ class ChildRun:
     cpu_s: float
     peak_mb: float
     wall_s: float
+
+    def describe(self) -> str:
+        """How it ended and what it used, for an assertion's message."""
+        return (f"exit {self.code}, {self.cpu_s:.2f} s CPU, {self.peak_mb:.0f} MB; "
+                f"stderr: {self.stderr.strip()[:400]!r}")
 
 
 def child_env() -> dict[str, str]:
@@ -91,14 +98,104 @@ def run_camfab(args: list[str], cpu_s: float = 30.0, wall_s: float = 300.0,
 def _reap(proc: subprocess.Popen[bytes], deadline: float) -> tuple[int, resource.struct_rusage]:
     """Wait for *proc* (killing it at *deadline*, a monotonic time) and return its status and
     resource usage, from ``os.wait4``."""
+    status, usage = _wait(proc.pid, deadline)
+    proc.returncode = status  # reaped here: Popen must not wait for it again
+    return status, usage
+
+
+def _wait(pid: int, deadline: float) -> tuple[int, resource.struct_rusage]:
+    """Wait for the child *pid*, killing it at *deadline* (a monotonic time): its status and
+    resource usage, from ``os.wait4``."""
     while True:
-        pid, status, usage = os.wait4(proc.pid, os.WNOHANG)
-        if pid == proc.pid:
-            proc.returncode = status  # reaped here: Popen must not wait for it again
+        done, status, usage = os.wait4(pid, os.WNOHANG)
+        if done == pid:
             return status, usage
         if time.monotonic() > deadline:
-            proc.send_signal(signal.SIGKILL)
-            _, status, usage = os.wait4(proc.pid, 0)
-            proc.returncode = status
+            os.kill(pid, signal.SIGKILL)
+            _, status, usage = os.wait4(pid, 0)
             return status, usage
-        time.sleep(0.02)
+        time.sleep(0.01)
+
+
+# ---- forked from this process: a case costs its own work, not a new interpreter's start -------
+
+def run_forked(args: list[str], cwd: Path, cpu_s: float = 30.0,
+               wall_s: float = 300.0) -> ChildRun:
+    """``camfab ARGS`` run in *cwd* in a child forked from this process, which has imported
+    camfab and its libraries already (:func:`_warm`), under the limits of :func:`limits`. Its
+    peak memory is its growth over what it shared with this process at the fork (MB)."""
+    _warm()
+    with tempfile.TemporaryDirectory(prefix="camfab-forked-") as tmp:
+        out_path, err_path, base_path = (Path(tmp) / n for n in ("out", "err", "base"))
+        sys.stdout.flush()
+        sys.stderr.flush()
+        started = time.monotonic()
+        pid = os.fork()
+        if pid == 0:  # the child: never returns
+            _forked_child(args, cwd, cpu_s, out_path, err_path, base_path)
+        status, usage = _wait(pid, started + wall_s)
+        wall = time.monotonic() - started
+        base_kb = int(base_path.read_text() or 0) if base_path.exists() else 0
+        code = -os.WTERMSIG(status) if os.WIFSIGNALED(status) else os.WEXITSTATUS(status)
+        return ChildRun(code, out_path.read_text(errors="replace"),
+                        err_path.read_text(errors="replace"), usage.ru_utime + usage.ru_stime,
+                        max(0, usage.ru_maxrss - base_kb) / 1024.0, wall)
+
+
+def _warm() -> None:
+    """Import what a build uses once, in this process, so that every forked child shares it."""
+    import ezdxf
+    import manifold3d
+    import shapely
+    import trimesh
+
+    import camfab.cli
+    import camfab.design.units
+    import camfab.export.report_html
+    import camfab.pipeline
+    import camfab.verification
+
+    assert ezdxf and manifold3d and shapely and trimesh and camfab.cli and camfab.pipeline
+    assert camfab.export.report_html and camfab.verification
+    camfab.design.units.registry()
+
+
+def _resident_kb() -> int:
+    with open("/proc/self/statm") as stream:
+        return int(stream.read().split()[1]) * (os.sysconf("SC_PAGE_SIZE") // 1024)
+
+
+def _forked_child(args: list[str], cwd: Path, cpu_s: float, out_path: Path, err_path: Path,
+                  base_path: Path) -> None:
+    code = 70
+    try:
+        os.chdir(cwd)
+        os.environ.pop("CAMFAB_DEBUG", None)
+        os.dup2(os.open(out_path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600), 1)
+        os.dup2(os.open(err_path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600), 2)
+        sys.stdout = open(1, "w", encoding="utf-8", closefd=False)
+        sys.stderr = open(2, "w", encoding="utf-8", closefd=False)
+        for number in (signal.SIGINT, signal.SIGTERM, signal.SIGALRM, signal.SIGPROF):
+            signal.signal(number, signal.SIG_DFL)
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.setitimer(signal.ITIMER_PROF, 0)
+        # the fork maps all this process has mapped: room for that on top of the run's own
+        limits(cpu_s, FORKED_ADDRESS_SPACE)()
+        base_path.write_text(str(_resident_kb()))
+        from camfab.cli import main
+
+        main.main(list(args), prog_name="camfab")
+        code = 0
+    except SystemExit as exc:
+        code = exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 1)
+    except BaseException:
+        import traceback
+
+        traceback.print_exc()
+        code = 70
+    finally:
+        try:
+            sys.stdout.flush()
+            sys.stderr.flush()
+        finally:
+            os._exit(code)

@@ -17,10 +17,7 @@ import contextlib
 import io
 import os
 import re
-import resource
 import signal
-import subprocess
-import sys
 import tempfile
 from collections import Counter
 from collections.abc import Iterator
@@ -46,6 +43,7 @@ from .fuzz_designs import (
     variant,
     whole_files,
 )
+from .limited_child import run_camfab
 
 #: Generated cases per test (the counts CI runs; ``test_zz_case_count`` checks their sum).
 CHECK_CASES = 1800
@@ -347,15 +345,9 @@ def test_whole_files_as_real_processes(tmp_path: Path, command: str, data: bytes
                                        pattern: str) -> None:
     CASES["process"] += 1
     (tmp_path / "d.yaml").write_bytes(data)
-    env = {k: v for k, v in os.environ.items() if k != "CAMFAB_DEBUG"}
-
-    def cpu_limit() -> None:  # a runaway ends by CPU time; the clock only catches a hang
-        resource.setrlimit(resource.RLIMIT_CPU, (60, 62))
-
-    run = subprocess.run([sys.executable, "-m", "camfab", command, "d.yaml"], cwd=tmp_path,
-                         capture_output=True, text=True, timeout=900, env=env,
-                         preexec_fn=cpu_limit)
-    assert run.returncode == status, run.stderr
+    # a runaway ends by CPU time and memory; the clock only catches a hang
+    run = run_camfab([command, "d.yaml"], cpu_s=60, wall_s=900, cwd=tmp_path)
+    assert run.code == status, run.stderr
     assert "Traceback" not in run.stderr and "internal error" not in run.stderr, run.stderr
     written = sorted(str(p.relative_to(tmp_path)) for p in tmp_path.rglob("*"))
     if status == 2:

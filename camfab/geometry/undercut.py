@@ -20,6 +20,9 @@ from camfab.arrays import Array, Mask
 #: A predicate over (K, 2) points: True where the follower never enters.
 KeepTest = Callable[[Array], Mask]
 
+#: Most (point, face line) pairs the flat-face test holds at once: 16 M, 128 MB of float64.
+FACE_TEST_ELEMENTS = 1 << 24
+
 
 def is_simple(xy: Array) -> bool:
     """True when the closed polyline through *xy* does not touch or cross itself."""
@@ -73,8 +76,15 @@ def below_face_lines(normals: Array, heights: Array, slack: float) -> KeepTest:
     """Points on the cam side of every face line ``x·n ≤ h`` (flat faces), *normals* (K, 2) and
     *heights* (K,) in the cam frame."""
 
+    limit = heights[None, :] + slack
+    # a block of points at a time: a cam whose every bump folds has hundreds of thousands of
+    # faces to test against thousands of face lines, gigabytes at once
+    block = max(1, FACE_TEST_ELEMENTS // max(1, normals.shape[0]))
+
     def keep(points: Array) -> Mask:
-        return np.all(points @ normals.T <= heights[None, :] + slack, axis=1)
+        return np.concatenate([np.all(points[i:i + block] @ normals.T <= limit, axis=1)
+                               for i in range(0, points.shape[0], block)]
+                              or [np.zeros(0, dtype=bool)])
 
     return keep
 
