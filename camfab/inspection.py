@@ -22,6 +22,7 @@ from camfab.analysis.inspection import (
     InspectionSetup,
     Reference,
 )
+from camfab.design.rules import MIN_TABLE_STEP_DEG
 from camfab.errors import InspectionError
 
 if TYPE_CHECKING:
@@ -46,9 +47,9 @@ KERF_OFFSET_TOLERANCE_MM = 1e-3
 #: design's motion table.
 DEFAULT_STEP = math.radians(1.0)
 
-#: ``--step`` (deg): from 0.01° (36,000 rows, the follower run at each) to 30°, a design's
-#: largest ``table_step``. The angles the follower is run at grow as 1/step.
-STEP_RANGE_DEG = (0.01, 30.0)
+#: ``--step`` (deg): the range of a design's ``table_step``, from 0.01° (36,000 rows, the
+#: follower run at each) to 30°. The angles the follower is run at grow as 1/step.
+STEP_RANGE_DEG = (MIN_TABLE_STEP_DEG, 30.0)
 
 #: ``--smooth`` (deg): from 0.1°, the step the follower is run at (a window of less is that of
 #: two steps), to 30°; the fit over the window costs its width in steps at every angle.
@@ -361,18 +362,11 @@ def _angle(what: str, raw: str, range_deg: tuple[float, float]) -> float:
 
 
 def _step(options: InspectOptions, design: Design | None) -> float:
-    """The lift table's row step (rad): ``--step``, else the design's ``table_step`` (within the
-    same range: a design may tabulate its motion more finely than inspect runs), else 1°."""
+    """The lift table's row step (rad): ``--step``, else the design's ``table_step`` (which the
+    design rules hold to the same range), else 1°."""
     if options.step is not None:
         return _angle("--step", options.step, STEP_RANGE_DEG)
-    if design is None:
-        return DEFAULT_STEP
-    low, high = STEP_RANGE_DEG
-    step_deg = math.degrees(design.table_step)
-    if not low * (1 - 1e-12) <= step_deg <= high * (1 + 1e-12):
-        raise InspectionError(f"{options.design}: table_step", f"{step_deg:g}° is outside the "
-                              f"rows inspect tabulates (from {low:g}° to {high:g}°); give --step")
-    return design.table_step
+    return DEFAULT_STEP if design is None else design.table_step
 
 
 def _speed(options: InspectOptions, extra: dict[str, Any], design: Design | None

@@ -390,19 +390,17 @@ def test_options_are_bounded(built: Path, tmp_path: Path, option: str, value: st
              said=(said,), named=option)
 
 
-def test_a_designs_table_step_finer_than_inspect_tabulates_is_refused(built: Path,
-                                                                       tmp_path: Path) -> None:
-    """A design may tabulate every 10⁻⁹°; inspect would have run its follower at 3.6·10¹¹
-    angles (an array of 2.6 TiB)."""
+def test_a_designs_table_step_finer_than_any_table_is_refused(built: Path,
+                                                              tmp_path: Path) -> None:
+    """A design tabulating every 10⁻⁹° would have had inspect run its follower at 3.6·10¹¹
+    angles (an array of 2.6 TiB): the design is refused on its line, --step or not."""
     design = tmp_path / "fine.yaml"
     design.write_text(SEED.read_text().replace("name: seed-10-4", "name: seed-10-4\n"
                                                "table_step: 0.000000001", 1))
-    err = _refused(tmp_path, built / "seed-10-4.dxf", "--design", str(design),
-                   said=("table_step", "give --step"), named=str(design))
-    assert "1e-09°" in err
-    code, err, _ = _inspect(tmp_path, built / "seed-10-4.dxf", "--design", str(design),
-                            "--step", "1")
-    assert code == 0, err
+    for extra in ((), ("--step", "1")):
+        err = _refused(tmp_path, built / "seed-10-4.dxf", "--design", str(design), *extra,
+                       said=("table_step: must be at least 0.01°",), named=f"{design}:")
+        assert "(got 1e-09)" in err
 
 
 # -- CSV ----------------------------------------------------------------------------------------
