@@ -241,7 +241,7 @@ def _verify_drum(analysis: Analysis) -> tuple[Verification, dict[str, bytes], di
         stl_check = None
         withheld["stl"] = ("the groove folds over itself (see the groove check): there is no "
                            "solid a roller could run in")
-        source = "the roller run between the exact walls (the groove folds, no STL)"
+        source = "the exact walls (the groove folds: no STL)"
     else:
         # the solid, read back
         stl, volume, area = render_drum_stl(analysis)
@@ -305,8 +305,8 @@ def verification_finding(analysis: Analysis, check: Verification) -> Finding:
         value = None
         lift_ok = True
         parts = [f"not applicable: the groove folds over itself, so there is no cam whose "
-                 f"motion the files could hold (see the groove check; the roller run "
-                 f"{check.source} moves up to {lift.max_mm:.3g} mm off the design)"]
+                 f"motion the files could hold (see the groove check); run over "
+                 f"{check.source}, the roller moves up to {lift.max_mm:.3g} mm off the design"]
     stl = check.stl
     if stl is not None:
         shape = ("closed, outward, no degenerate face, short edge or sliver" if stl.watertight
