@@ -66,7 +66,7 @@ def run_all(paths: Sequence[str], out_dir: Path | None, jobs: int, task: Task,
         results: list[Outcome | None] = [None] * len(paths)
         pool = ProcessPoolExecutor(max_workers=min(jobs, len(paths)), initializer=_worker)
         try:
-            with _no_sigint():  # the workers start with Ctrl-C held, then ignore it
+            with _signals_held():  # the pool is set up whole; the workers ignore Ctrl-C
                 futures = {pool.submit(_timed, task, path, out_dir): i
                            for i, path in enumerate(paths)}
             for future in as_completed(futures):
@@ -75,24 +75,34 @@ def run_all(paths: Sequence[str], out_dir: Path | None, jobs: int, task: Task,
                     bar.update(1)
         except BaseException:  # Ctrl-C, SIGTERM: the designs being built are finished (their
             # files written whole), the others not started
-            pool.shutdown(wait=True, cancel_futures=True)
+            with _signals_held():  # a second signal must not break off the shutdown
+                pool.shutdown(wait=True, cancel_futures=True)
             raise
-        pool.shutdown()
+        with _signals_held():
+            pool.shutdown()
         return [r for r in results if r is not None]
     finally:
         if bar is not None:
             bar.render_finish()
 
 
+#: The signals that stop camfab (Ctrl-C, SIGTERM, SIGHUP), by name.
+_STOPPING = ("SIGINT", "SIGTERM", "SIGHUP")
+
+
 @contextmanager
-def _no_sigint() -> Iterator[None]:
-    """Hold Ctrl-C (SIGINT) while worker processes are forked, so none starts with it pending."""
+def _signals_held() -> Iterator[None]:
+    """Hold the signals that stop camfab while the pool of workers is set up: a stop raised
+    inside ``submit``, between forking the workers and starting the thread that feeds them,
+    leaves workers that wait for work forever and a process that waits for them at exit. The
+    signals come once the pool is whole, and the workers start with them held."""
     import signal
 
     if not hasattr(signal, "pthread_sigmask"):
         yield
         return
-    old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    held = {getattr(signal, name) for name in _STOPPING if hasattr(signal, name)}
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, held)
     try:
         yield
     finally:
@@ -101,12 +111,13 @@ def _no_sigint() -> Iterator[None]:
 
 def _worker() -> None:
     """A worker ignores Ctrl-C: the batch's process stops the batch and lets a worker finish
-    the design it is writing."""
+    the design it is writing; SIGTERM and SIGHUP stop it as they stop camfab."""
     import signal
 
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     if hasattr(signal, "pthread_sigmask"):
-        signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, {getattr(signal, name) for name in _STOPPING
+                                                    if hasattr(signal, name)})
 
 
 def same_names(paths: Sequence[str]) -> dict[int, Outcome]:

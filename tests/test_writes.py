@@ -118,9 +118,11 @@ def _slow_design(folder: Path, name: str = "slow") -> Path:
 
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc")
 @pytest.mark.parametrize(("signum", "status"), [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
-@pytest.mark.parametrize("jobs", ["1", "2"])
+@pytest.mark.parametrize(("jobs", "delay"), [("1", 0.3), ("2", 0.3), ("2", 0.0)])
 def test_a_signal_stops_a_build_with_its_status_and_no_temporary_files(
-        tmp_path: Path, signum: int, status: int, jobs: str) -> None:
+        tmp_path: Path, signum: int, status: int, jobs: str, delay: float) -> None:
+    """A signal as soon as camfab has its handlers (a batch still setting up its workers), or
+    once it is building."""
     designs = [str(_slow_design(tmp_path, f"slow{i}")) for i in range(3 if jobs == "2" else 1)]
     child = subprocess.Popen([sys.executable, "-m", "camfab", "build", *designs, "-o", "out",
                               "-j", jobs], cwd=tmp_path, stdout=subprocess.PIPE,
@@ -128,7 +130,7 @@ def test_a_signal_stops_a_build_with_its_status_and_no_temporary_files(
     deadline = time.monotonic() + 120  # far beyond the second it takes to start
     while not _caught(child.pid, signal.SIGTERM) and time.monotonic() < deadline:
         time.sleep(0.01)
-    time.sleep(0.3)
+    time.sleep(delay)
     # Ctrl-C reaches every process of the terminal's group; SIGTERM is sent to camfab alone
     if signum == signal.SIGINT:
         os.killpg(child.pid, signum)
