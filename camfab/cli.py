@@ -104,6 +104,7 @@ class _Camfab(click.Group):
              **extra: Any) -> Any:
         import signal
 
+        _RECEIVED.clear()
         _catch_signals()
         try:
             result = super().main(args, prog_name, complete_var, standalone_mode=False, **extra)
@@ -292,7 +293,7 @@ def _inspect_one(options: InspectOptions) -> Outcome:
             head += f"; turned {math.degrees(ins.align):.4g}° into phase"
     lines = [f"{head} — wrote {len(result.written)} file(s) to {result.folder}/"]
     lines += [f"  {p.name}" for p in result.written]
-    lines += [f"  {_mark(f)} {f.id}: {f.message}" for f in ins.findings if not f.ok]
+    lines += [f"  {f.mark} {f.id}: {f.message}" for f in ins.findings if not f.ok]
     return Outcome(result.exit_code, out=lines)
 
 
@@ -344,7 +345,7 @@ def _build_one(path: str, out_dir: Path | None) -> Outcome:
         lines += [f"  {p.name}" for p in result.written]
         if result.not_produced:
             lines.extend(f"  not produced: {item}" for item in result.not_produced)
-        lines += [f"  {_mark(f)} {f.id}: {f.message}" for f in result.analysis.findings
+        lines += [f"  {f.mark} {f.id}: {f.message}" for f in result.analysis.findings
                   if not f.ok]
         from camfab.analysis.findings import count
 
@@ -375,10 +376,6 @@ def _verdict(analysis: Analysis) -> str:
     errors, warnings = count(analysis.findings, "error"), count(analysis.findings, "warning")
     state = "FAIL" if analysis.exit_code else "OK"
     return f"{state} ({errors} error(s), {warnings} warning(s))"
-
-
-def _mark(finding) -> str:
-    return finding.mark
 
 
 if __name__ == "__main__":  # pragma: no cover
