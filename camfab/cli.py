@@ -316,7 +316,8 @@ def _finish(outcomes: list[Outcome]) -> int:
 
 def _guarded(path: str, work) -> Outcome:
     """Run *work*; invalid input becomes its one-line message and status 2. numpy's warnings on
-    extreme values stay off the terminal: what a design does wrong is a finding or an error."""
+    extreme values stay off the terminal: what a design does wrong is a finding or an error. An
+    error raised after a stopping signal is that signal, whatever a library made of it."""
     import warnings
 
     from camfab.errors import CamfabError
@@ -326,9 +327,11 @@ def _guarded(path: str, work) -> Outcome:
             if not os.environ.get("CAMFAB_DEBUG"):
                 warnings.simplefilter("ignore", RuntimeWarning)
             return work()
-    except CamfabError as exc:
-        return Outcome(2, err=[str(exc)])
     except Exception as exc:
+        if _RECEIVED:  # a library caught the signal's raise and wrapped it (pydantic's schemas)
+            raise Interrupted(_RECEIVED[0]) from None
+        if isinstance(exc, CamfabError):
+            return Outcome(2, err=[str(exc)])
         if os.environ.get("CAMFAB_DEBUG"):
             raise
         return Outcome(2, err=[f"{path}: internal error: {type(exc).__name__}: {exc} "

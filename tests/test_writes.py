@@ -148,6 +148,23 @@ def test_a_signal_stops_a_build_with_its_status_and_no_temporary_files(
 
 # ---- a batch -----------------------------------------------------------------------------------
 
+@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
+def test_a_signal_a_library_wrapped_is_still_the_signal(monkeypatch, signum: int) -> None:
+    """pydantic builds a model's schema on first use and wraps whatever is raised inside it in
+    its own SchemaError: a SIGTERM arriving then must stop camfab as a signal, not be reported
+    as an internal error of the design."""
+    from camfab import cli
+
+    def work() -> cli.Outcome:
+        cli._RECEIVED.append(signum)  # what the handler notes before it raises
+        raise RuntimeError("SchemaError: Error building ... Interrupted: 15")
+
+    monkeypatch.setattr(cli, "_RECEIVED", [])
+    with pytest.raises(cli.Interrupted) as caught:
+        cli._guarded("d.yaml", work)
+    assert caught.value.signum == signum
+
+
 def test_two_designs_of_one_name_in_a_batch_are_not_both_written(tmp_path: Path) -> None:
     text = (DESIGNS / "seed-poly-345.yaml").read_text()
     (tmp_path / "a.yaml").write_text(text)
