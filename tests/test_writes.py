@@ -116,6 +116,12 @@ def _slow_design(folder: Path, name: str = "slow") -> Path:
     return path
 
 
+def _as_at_a_terminal() -> None:
+    """Ctrl-C as a terminal's foreground command has it, whoever runs the tests: a shell's
+    background job starts with SIGINT ignored, and camfab rightly keeps it ignored then."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc")
 @pytest.mark.parametrize(("signum", "status"), [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
 @pytest.mark.parametrize(("jobs", "delay"), [("1", 0.3), ("2", 0.3), ("2", 0.0)])
@@ -126,7 +132,8 @@ def test_a_signal_stops_a_build_with_its_status_and_no_temporary_files(
     designs = [str(_slow_design(tmp_path, f"slow{i}")) for i in range(3 if jobs == "2" else 1)]
     child = subprocess.Popen([sys.executable, "-m", "camfab", "build", *designs, "-o", "out",
                               "-j", jobs], cwd=tmp_path, stdout=subprocess.PIPE,
-                             stderr=subprocess.PIPE, text=True, start_new_session=True)
+                             stderr=subprocess.PIPE, text=True, start_new_session=True,
+                             preexec_fn=_as_at_a_terminal)
     deadline = time.monotonic() + 120  # far beyond the second it takes to start
     while not _caught(child.pid, signal.SIGTERM) and time.monotonic() < deadline:
         time.sleep(0.01)
