@@ -121,6 +121,11 @@ class _Camfab(click.Group):
         except click.ClickException as exc:
             click.echo(_usage_line(exc), err=True)
             code = exc.exit_code
+        except Exception:
+            if not _RECEIVED:
+                raise
+            # a library caught the signal's raise and wrapped it in its own error (pydantic
+            # building a model's schema while camfab imports it): it is still the signal
         if _RECEIVED:
             signum = _RECEIVED[0]
             click.echo("camfab: interrupted" if signum == signal.SIGINT else

@@ -172,6 +172,30 @@ def test_a_signal_a_library_wrapped_is_still_the_signal(monkeypatch, signum: int
     assert caught.value.signum == signum
 
 
+def test_a_wrapped_signal_outside_a_design_is_still_the_signal(monkeypatch, capsys) -> None:
+    """The same when the wrapped signal escapes while camfab sets up (its modules imported
+    before a batch starts): status 143 and the one line, not a traceback."""
+    import click
+
+    from camfab import cli
+
+    @click.command("wrapped-signal")
+    def wrapped() -> None:
+        cli._RECEIVED.append(signal.SIGTERM)
+        raise RuntimeError("SchemaError: Error building ... Interrupted: 15")
+
+    monkeypatch.setattr(cli, "_RECEIVED", [])
+    monkeypatch.setitem(cli.main.commands, "wrapped-signal", wrapped)
+    old = {s: signal.getsignal(s) for s in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)}
+    try:
+        code = cli.main.main(["wrapped-signal"], standalone_mode=False)
+    finally:
+        for number, handler in old.items():
+            signal.signal(number, handler)
+    assert code == 143
+    assert capsys.readouterr().err == "camfab: stopped by signal 15\n"
+
+
 def test_two_designs_of_one_name_in_a_batch_are_not_both_written(tmp_path: Path) -> None:
     text = (DESIGNS / "seed-poly-345.yaml").read_text()
     (tmp_path / "a.yaml").write_text(text)
