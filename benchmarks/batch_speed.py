@@ -46,8 +46,7 @@ def _per_design(runs: int) -> tuple[float, float]:
     use_checkout()
     from camfab.design import load_design
     from camfab.export.report_html import render_report_html
-    from camfab.pipeline import analyse, build
-    from camfab.verification import verify_exports
+    from camfab.pipeline import analyse, build, verify_exports
 
     path = ROOT / "designs" / f"{EXAMPLES[0]}.yaml"
     with tempfile.TemporaryDirectory() as out:

@@ -211,8 +211,7 @@ def camfab_outlines(design: Design) -> tuple[Profile, Profile, int]:
     """camfab's sampled profile, its DXF CUT outline read back (mm), and the outline's lines
     and arcs."""
     from camfab.export.dxf import read_cut_outline
-    from camfab.pipeline import analyse
-    from camfab.verification import verify_exports
+    from camfab.pipeline import analyse, verify_exports
 
     analysis = analyse(design)
     assert analysis.geometry is not None

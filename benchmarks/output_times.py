@@ -121,7 +121,7 @@ def all_outputs(analysis: Analysis) -> Analysis:
 
 def export_parts(analysis: Analysis, runs: int) -> dict[str, float]:
     """Median milliseconds of each part of ``verify_exports`` with every file asked for."""
-    from camfab.verification import verify_exports
+    from camfab.pipeline import verify_exports
 
     samples: dict[str, list[float]] = {part: [] for part in (*PARTS, "verify")}
     for _ in range(runs):
@@ -138,8 +138,7 @@ def export_parts(analysis: Analysis, runs: int) -> dict[str, float]:
 def time_design(path: Path, runs: int) -> dict[str, float]:
     """Milliseconds of each step for the design in *path*."""
     from camfab.design import load_design
-    from camfab.pipeline import RENDERERS, analyse, render
-    from camfab.verification import verify_exports
+    from camfab.pipeline import RENDERERS, analyse, render, verify_exports
 
     analysis = all_outputs(analyse(load_design(path)))
     render(analysis)  # warm every import the outputs need

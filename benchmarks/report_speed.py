@@ -25,7 +25,7 @@ _RUN = r"""
 import sys, time
 from camfab.design import load_design
 from camfab.pipeline import analyse
-from camfab.verification import verify_exports
+from camfab.pipeline import verify_exports
 analysis, _ = verify_exports(analyse(load_design(sys.argv[1])), ("dxf", "svg", "stl"))
 start = time.perf_counter()
 from camfab.export.report_html import render_report_html

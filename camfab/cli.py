@@ -20,8 +20,8 @@ from camfab.batch import PROGRESS_FROM, Outcome
 
 if TYPE_CHECKING:
     from camfab.analysis.inspection import Inspection
+    from camfab.analysis.record import Analysis
     from camfab.inspection import InspectOptions
-    from camfab.pipeline import Analysis
 
 STARTER_KINDS = ("disc-roller", "disc-knife", "disc-flat", "disc-mushroom", "oscillating",
                  "oscillating-flat", "cylindrical", "circular-arc", "tangent", "groove",

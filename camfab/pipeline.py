@@ -15,61 +15,36 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from camfab import __version__
-from camfab.analysis.findings import Finding, exit_status
-from camfab.analysis.kinematics import MotionUnits, SegmentStats, continuity_findings, segment_stats
+from camfab.analysis.kinematics import MotionUnits, continuity_findings, segment_stats
+from camfab.analysis.record import Analysis
 from camfab.design import Design, load_design
 from camfab.errors import OutputError
-from camfab.motion.program import MotionProgram
 
 if TYPE_CHECKING:
-    from camfab.analysis.cam_checks import CamNumbers
-    from camfab.analysis.drum_checks import DrumNumbers
-    from camfab.analysis.dynamics import Dynamics
-    from camfab.analysis.linear_checks import LinearNumbers
-    from camfab.analysis.shape_numbers import ShapeNumbers
-    from camfab.geometry.conjugate import Partner
-    from camfab.geometry.disc_geometry import DiscGeometry
-    from camfab.geometry.drum import DrumDense
-    from camfab.geometry.groove import GrooveWalls
-    from camfab.geometry.linear import LinearGeometry
-    from camfab.verification import Verification
+    from camfab.kinds.readback import Exports
 
 #: Every output a design may ask for, in the order files are listed.
 ALL_OUTPUTS = ("dxf", "svg", "stl", "report", "csv")
 
 
-@dataclass(frozen=True)
-class Analysis:
-    """Everything computed about a design, before any file is made."""
-
-    design: Design
-    program: MotionProgram
-    units: MotionUnits
-    segments: list[SegmentStats]
-    findings: list[Finding]
-    geometry: DiscGeometry | None = None
-    numbers: CamNumbers | DrumNumbers | LinearNumbers | None = None
-    verification: Verification | None = None
-    drum: DrumDense | None = None
-    dynamics: Dynamics | None = None
-    shape: ShapeNumbers | None = None
-    linear: LinearGeometry | None = None
-    groove: GrooveWalls | None = None
-    partner: Partner | None = None
-
-    @property
-    def exit_code(self) -> int:
-        """0 when every error-severity check passed, 1 otherwise."""
-        return exit_status(self.findings)
-
-
 def analyse(design: Design) -> Analysis:
     """Compute the motion, its kinematics, the cam's geometry, the dynamics and the checks of
-    *design*."""
+    *design*: the checks every cam has, then its kind's analysis, then the dynamics."""
     from dataclasses import replace
 
-    analysis = _analyse_geometry(design)
-    if design.follower.mass is None or analysis.groove is not None or analysis.partner:
+    from camfab.analysis.cam_checks import bore_finding
+    from camfab.kinds import kind_of
+
+    kind = kind_of(design.cam.type)
+    program = design.program
+    units = MotionUnits(design.follower.oscillating)
+    omega = design.cam.omega
+    findings, steps = continuity_findings(program, units, omega)
+    bore = bore_finding(design)
+    findings = [*findings, *([bore] if bore is not None else [])]
+    stats = segment_stats(program, steps, units, omega)
+    analysis = kind.analyse(design, program, units, stats, findings)
+    if design.follower.mass is None or kind.drives_both_ways:
         # a groove, a conjugate pair or a yoke drives its follower both ways: no spring to
         # size, and the forces on either side are theirs (camfab.geometry.groove, .conjugate)
         return analysis
@@ -84,51 +59,25 @@ def analyse(design: Design) -> Analysis:
                    findings=[*analysis.findings, jump_finding(design, dyn)])
 
 
-def _analyse_geometry(design: Design) -> Analysis:
-    from camfab.analysis.cam_checks import bore_finding
+def verify_exports(analysis: Analysis, requested: tuple[str, ...]) -> tuple[Analysis, Exports]:
+    """Make the manufacturing files through the design's kind, read them back and run the
+    follower over them.
 
-    program = design.program
-    units = MotionUnits(design.follower.oscillating)
-    omega = design.cam.omega
-    findings, steps = continuity_findings(program, units, omega)
-    bore = bore_finding(design)
-    findings = [*findings, *([bore] if bore is not None else [])]
-    stats = segment_stats(program, steps, units, omega)
-    if design.cam.type == "cylindrical":
-        from camfab.analysis.drum_checks import drum_findings, drum_numbers
-        from camfab.geometry.drum import drum, drum_dense
+    Returns the analysis with its :class:`~camfab.kinds.readback.Verification` (and the
+    ``verification`` check) and the *requested* files. Whatever the verification reads is made
+    whether requested or not.
+    """
+    from dataclasses import replace
 
-        dense = drum_dense(drum(design), program)
-        drum_nums = drum_numbers(dense, len(program.segments))
-        findings = [*drum_findings(design, dense, drum_nums), *findings]
-        return Analysis(design, program, units, stats, findings, numbers=drum_nums, drum=dense)
-    if design.cam.linear:
-        from camfab.analysis.linear_checks import analyse_linear
+    from camfab.kinds import kind_of
+    from camfab.kinds.readback import Exports, verification_finding
 
-        return analyse_linear(design, program, units, stats, findings)
-    if not design.cam.plate and not design.cam.shaped:
-        return Analysis(design, program, units, stats, findings)
-    from camfab.analysis.cam_checks import cam_findings, cam_numbers
-    from camfab.geometry.disc_geometry import disc_geometry
-
-    geometry = disc_geometry(design)
-    numbers = cam_numbers(geometry, len(program.segments))
-    findings = [*cam_findings(design, geometry, numbers), *findings]
-    shape = None
-    if design.cam.shaped:
-        from camfab.analysis.shape_numbers import shape_numbers
-
-        shape = shape_numbers(design, program)
-    analysis = Analysis(design, program, units, stats, findings, geometry, numbers, shape=shape)
-    if design.cam.type == "groove":
-        from camfab.analysis.groove_checks import with_groove
-
-        return with_groove(analysis)
-    if design.cam.type in ("conjugate", "constant-breadth"):
-        from camfab.analysis.partner_checks import with_partner
-
-        return with_partner(analysis)
-    return analysis
+    analysis, check, files, withheld = kind_of(analysis.design.cam.type).files(analysis,
+                                                                                requested)
+    findings = [*analysis.findings, verification_finding(analysis, check)]
+    wanted = {name: data for name, data in files.items() if name in requested}
+    return (replace(analysis, verification=check, findings=findings),
+            Exports(wanted, {k: v for k, v in withheld.items() if k in requested}))
 
 
 def _report_json(analysis: Analysis) -> bytes:
@@ -169,8 +118,6 @@ class Artifacts:
 def render(analysis: Analysis) -> Artifacts:
     """The bytes of every file the design asks for (all that apply by default), after the
     verification of the exported outline (which the report carries)."""
-    from camfab.verification import verify_exports
-
     requested = analysis.design.outputs or ALL_OUTPUTS
     analysis, exports = verify_exports(analysis, requested)
     files: dict[str, bytes] = {}

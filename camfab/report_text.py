@@ -10,8 +10,8 @@ from rich.markup import escape
 from rich.table import Table
 
 if TYPE_CHECKING:
+    from camfab.analysis.record import Analysis
     from camfab.geometry.disc_geometry import DiscGeometry
-    from camfab.pipeline import Analysis
 
 
 def _console() -> Console:

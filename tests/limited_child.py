@@ -152,11 +152,11 @@ def _warm() -> None:
     import camfab.cli
     import camfab.design.units
     import camfab.export.report_html
+    import camfab.kinds.readback
     import camfab.pipeline
-    import camfab.verification
 
     assert ezdxf and manifold3d and shapely and trimesh and camfab.cli and camfab.pipeline
-    assert camfab.export.report_html and camfab.verification
+    assert camfab.export.report_html and camfab.kinds.readback
     camfab.design.units.registry()
 
 

@@ -128,7 +128,7 @@ def test_an_undercut_cams_files_are_held_to_the_cut_cam_not_passed_unchecked() -
     assert np.abs(written.error_mm[nose] - cut.error_mm[nose]).max() <= tolerance
     assert np.abs(written.error_mm[nose]).max() > 50 * tolerance  # the undercut's own error
     # a cut cam off by more than the tolerance fails the check
-    from camfab.verification import verification_finding
+    from camfab.kinds.readback import verification_finding
 
     shifted = replace(analysis.verification, cut_error=replace(
         analysis.verification.cut_error, error_mm=analysis.verification.cut_error.error_mm

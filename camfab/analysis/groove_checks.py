@@ -21,7 +21,7 @@ from camfab.analysis.ranges import merge, ranges_deg
 from camfab.geometry.groove import GrooveWalls, groove_walls, wall_lift_check
 
 if TYPE_CHECKING:
-    from camfab.pipeline import Analysis
+    from camfab.analysis.record import Analysis
 
 
 def with_groove(analysis: Analysis) -> Analysis:

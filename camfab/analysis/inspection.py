@@ -37,7 +37,7 @@ from camfab.geometry.follower import FollowerGeometry
 from camfab.geometry.profile import Profile
 
 if TYPE_CHECKING:
-    from camfab.pipeline import Analysis
+    from camfab.analysis.record import Analysis
 
 #: Largest cam-angle step of the grid the follower is run on: 0.1°, like the verification of
 #: camfab's files; a bump of a few tenths of a millimetre along the outline still spans steps.

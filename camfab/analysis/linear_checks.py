@@ -21,9 +21,9 @@ from camfab.geometry.linear import LinearGeometry, linear_geometry
 
 if TYPE_CHECKING:
     from camfab.analysis.kinematics import MotionUnits, SegmentStats
+    from camfab.analysis.record import Analysis
     from camfab.design import Design
     from camfab.motion.program import MotionProgram
-    from camfab.pipeline import Analysis
 
 
 @dataclass(frozen=True)
@@ -205,7 +205,7 @@ def analyse_linear(design: Design, program: MotionProgram, units: MotionUnits,
                    stats: list[SegmentStats], findings: list[Finding]) -> Analysis:
     """The analysis of a linear cam: its geometry, numbers and checks, before the continuity
     *findings* the pipeline found."""
-    from camfab.pipeline import Analysis
+    from camfab.analysis.record import Analysis
 
     geom = linear_geometry(design)
     numbers = linear_numbers(geom, len(program.segments))

@@ -20,7 +20,7 @@ from camfab.motion.mirror import opposite
 from camfab.motion.program import cycle_angles
 
 if TYPE_CHECKING:
-    from camfab.pipeline import Analysis
+    from camfab.analysis.record import Analysis
 
 #: Ids of the geometric checks run on each cam of a conjugate pair.
 PER_CAM_CHECKS = ("pressure_angle", "undercut", "curvature", "face_width", "cutter")

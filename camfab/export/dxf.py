@@ -21,8 +21,8 @@ from camfab.geometry.arcfit import fit_arcs
 from camfab.geometry.profile import Profile
 
 if TYPE_CHECKING:
+    from camfab.analysis.record import Analysis
     from camfab.geometry.plate import Contours, Plate
-    from camfab.pipeline import Analysis
 
 
 #: Layer name -> (ACI colour, linetype): CUT red, references in muted colours.

@@ -15,9 +15,9 @@ from camfab.export.chart import Axes, Figure
 from camfab.motion.program import cycle_angles
 
 if TYPE_CHECKING:
+    from camfab.analysis.record import Analysis
     from camfab.geometry.disc_geometry import DiscGeometry
     from camfab.geometry.linear import LinearGeometry
-    from camfab.pipeline import Analysis
 
 #: Cam-angle step of the diagrams: 0.5° draws every feature a reader can see.
 DIAGRAM_STEP = math.radians(0.5)

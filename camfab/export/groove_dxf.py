@@ -21,8 +21,8 @@ from camfab.geometry.curves import perp
 from camfab.geometry.profile import Profile
 
 if TYPE_CHECKING:
+    from camfab.analysis.record import Analysis
     from camfab.geometry.plate import Contours
-    from camfab.pipeline import Analysis
 
 #: A wall-change tick runs this many groove half widths either side of the pitch curve: across
 #: both walls and a little beyond.

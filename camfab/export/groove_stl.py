@@ -17,8 +17,8 @@ from camfab.export.stl import binary_stl, chain_length, hole_points, holes_area
 from camfab.geometry.sampling import arc_points
 
 if TYPE_CHECKING:
+    from camfab.analysis.record import Analysis
     from camfab.geometry.plate import Contours
-    from camfab.pipeline import Analysis
 
 #: How far the pocket's cutting body reaches above the face (mm), so the boolean never meets
 #: two coplanar faces.

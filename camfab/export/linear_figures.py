@@ -23,7 +23,7 @@ from camfab.export.figures import (
 )
 
 if TYPE_CHECKING:
-    from camfab.pipeline import Analysis
+    from camfab.analysis.record import Analysis
 
 
 def linear_drawing(analysis: Analysis) -> str:

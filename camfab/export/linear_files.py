@@ -20,8 +20,8 @@ from typing import TYPE_CHECKING
 from camfab.export.dxf import add_contour, dxf_bytes, new_document
 
 if TYPE_CHECKING:
+    from camfab.analysis.record import Analysis
     from camfab.geometry.profile import Profile
-    from camfab.pipeline import Analysis
 
 
 def render_linear_dxf(analysis: Analysis, cut: Profile, pitch: Profile,

@@ -21,7 +21,7 @@ import numpy as np
 from camfab.motion.program import cycle_angles
 
 if TYPE_CHECKING:
-    from camfab.pipeline import Analysis
+    from camfab.analysis.record import Analysis
 
 
 def motion_table(analysis: Analysis) -> tuple[list[str], np.ndarray]:

@@ -17,8 +17,8 @@ from camfab.analysis.findings import count
 if TYPE_CHECKING:
     import jinja2
 
+    from camfab.analysis.record import Analysis
     from camfab.design import Design
-    from camfab.pipeline import Analysis
 
 
 def num(value: float | None, digits: int = 5) -> str:

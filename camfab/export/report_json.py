@@ -19,7 +19,7 @@ from camfab.analysis.drum_checks import DrumNumbers
 from camfab.analysis.findings import count
 
 if TYPE_CHECKING:
-    from camfab.pipeline import Analysis
+    from camfab.analysis.record import Analysis
 
 
 def report_dict(analysis: Analysis) -> dict[str, Any]:

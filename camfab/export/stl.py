@@ -19,8 +19,8 @@ from camfab.arrays import Array
 from camfab.geometry.sampling import arc_points
 
 if TYPE_CHECKING:
+    from camfab.analysis.record import Analysis
     from camfab.geometry.plate import Contours, Plate
-    from camfab.pipeline import Analysis
 
 
 def hole_points(holes: Contours, tolerance: float) -> list[Array]:

@@ -17,8 +17,8 @@ from camfab.arrays import Array
 from camfab.geometry.profile import Profile
 
 if TYPE_CHECKING:
+    from camfab.analysis.record import Analysis
     from camfab.geometry.plate import Contours
-    from camfab.pipeline import Analysis
 
 #: Margin around the drawing (its exact bounding box), as a fraction of its size: room for the
 #: stroke's half width (a thousandth of the size) and for a reader's rounding.

@@ -16,11 +16,15 @@ from typing import TYPE_CHECKING
 
 from camfab.geometry.conjugate import hold, made_geometry, to_made_frame
 from camfab.geometry.disc_geometry import VERIFY_STEP, LiftCheck
+from camfab.kinds.readback import Verification, against_cut, read_back, verify_plate
 from camfab.motion.program import cycle_angles
-from camfab.verification import Verification, against_cut, read_back, verify_plate
 
 if TYPE_CHECKING:
-    from camfab.pipeline import Analysis
+    from camfab.analysis.findings import Finding
+    from camfab.analysis.kinematics import MotionUnits, SegmentStats
+    from camfab.analysis.record import Analysis
+    from camfab.design import Design
+    from camfab.motion.program import MotionProgram
 
 
 def verify_partner(analysis: Analysis, requested: tuple[str, ...]) -> tuple[
@@ -98,3 +102,38 @@ def _verify_pair(analysis: Analysis, requested: tuple[str, ...]) -> tuple[
     return Verification(lift, source, back_a.entities + back_b.entities, deviation, stl_check,
                         exempt=geom_a.undercut or geom_b.undercut, hold=held,
                         cut_error=cut_error), files
+
+
+class Pair:
+    """The cams that hold their follower on both sides: the conjugate pair and the
+    constant-breadth cam (``cam.type: conjugate``, ``constant-breadth``)."""
+
+    drives_both_ways = True
+
+    @staticmethod
+    def analyse(design: Design, program: MotionProgram, units: MotionUnits,
+                stats: list[SegmentStats], findings: list[Finding]) -> Analysis:
+        """A plate cam's analysis with the second contact, the second cam's checks and the
+        ``hold`` check."""
+        from camfab.analysis.partner_checks import with_partner
+        from camfab.kinds.disc import analyse_plate
+
+        return with_partner(analyse_plate(design, program, units, stats, findings))
+
+    @staticmethod
+    def files(analysis: Analysis, requested: tuple[str, ...]) -> tuple[
+            Analysis, Verification, dict[str, dict[str, bytes]], dict[str, str]]:
+        """The files, read back; the hold of the cams as written replaces that of the cams as
+        sampled."""
+        from camfab.analysis.partner_checks import read_back_hold
+
+        check, files = verify_partner(analysis, requested)
+        if check.hold is not None and analysis.partner is not None:
+            findings = [read_back_hold(analysis, check.hold) if f.id == "hold" else f
+                        for f in analysis.findings]
+            analysis = replace(analysis, findings=findings,
+                               partner=replace(analysis.partner, hold=check.hold))
+        return analysis, check, files, {}
+
+
+KIND = Pair()

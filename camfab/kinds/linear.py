@@ -10,13 +10,17 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from camfab.verification import Verification, against_cut, named, read_part
+from camfab.kinds.readback import Verification, against_cut, named, read_part
 
 if TYPE_CHECKING:
+    from camfab.analysis.findings import Finding
+    from camfab.analysis.kinematics import MotionUnits, SegmentStats
+    from camfab.analysis.record import Analysis
+    from camfab.design import Design
     from camfab.export.stl import StlCheck
     from camfab.geometry.linear import LinearGeometry
     from camfab.geometry.profile import Profile
-    from camfab.pipeline import Analysis
+    from camfab.motion.program import MotionProgram
 
 
 def linear_contours(analysis: Analysis) -> tuple[Profile, Profile, Profile | None]:
@@ -86,3 +90,26 @@ def verify_linear(analysis: Analysis,
     check = Verification(lift, source, len(written.vertices), deviation, stl_check,
                          exempt=geom.undercut, cut_error=cut_error)
     return check, named(design.name, files)
+
+
+class Linear:
+    """The linear (translating, wedge) cam (``cam.type: linear``)."""
+
+    drives_both_ways = False
+
+    @staticmethod
+    def analyse(design: Design, program: MotionProgram, units: MotionUnits,
+                stats: list[SegmentStats], findings: list[Finding]) -> Analysis:
+        """The plate's exact curves, numbers and checks (before *findings*)."""
+        from camfab.analysis.linear_checks import analyse_linear
+
+        return analyse_linear(design, program, units, stats, findings)
+
+    @staticmethod
+    def files(analysis: Analysis, requested: tuple[str, ...]) -> tuple[
+            Analysis, Verification, dict[str, dict[str, bytes]], dict[str, str]]:
+        check, files = verify_linear(analysis, requested)
+        return analysis, check, files, {}
+
+
+KIND = Linear()

@@ -1,5 +1,5 @@
-"""Every build checks the files it writes: it reads them back as their users would and runs the
-follower over what it finds.
+"""Reading back, shared by the kinds: every build checks the files it writes, reading them back
+as their users would and running the follower over what it finds.
 
 A disc cam's CUT outline is read back from the DXF (the kerf taken back off) and the follower run
 over it; the outline's distance from the exact curve is measured; the STL is read back and
@@ -10,9 +10,8 @@ measured against the exact walls.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -21,17 +20,13 @@ from camfab.analysis.findings import Finding
 from camfab.geometry.disc_geometry import LiftCheck
 
 if TYPE_CHECKING:
+    from camfab.analysis.record import Analysis
     from camfab.design import Design
     from camfab.export.stl import StlCheck
     from camfab.geometry.conjugate import Hold
     from camfab.geometry.disc_geometry import DiscGeometry
     from camfab.geometry.profile import Profile
     from camfab.motion.program import MotionProgram
-    from camfab.pipeline import Analysis
-
-#: Cam-angle step at which the roller is run through a drum's groove read back from the STL.
-DRUM_VERIFY_STEP = math.radians(0.5)
-
 
 @dataclass(frozen=True)
 class Verification:
@@ -85,48 +80,6 @@ class Exports:
 def named(name: str, files: dict[str, bytes]) -> dict[str, dict[str, bytes]]:
     """One file per output: ``NAME.dxf`` and so on."""
     return {output: {f"{name}.{output}": data} for output, data in files.items()}
-
-
-def verify_exports(analysis: Analysis, requested: tuple[str, ...]) -> tuple[Analysis, Exports]:
-    """Make the manufacturing files, read them back and run the follower over them.
-
-    Returns the analysis with its :class:`Verification` (and the ``verification`` check) and
-    the *requested* files (none for cam types without them). Whatever the verification reads
-    is made whether requested or not.
-    """
-    withheld: dict[str, str] = {}
-    name = analysis.design.name
-    if analysis.drum is not None:
-        check, single, withheld = _verify_drum(analysis)
-        files = named(name, single)
-    elif analysis.linear is not None:
-        from camfab.verify_linear import verify_linear
-
-        check, files = verify_linear(analysis, requested)
-    elif analysis.groove is not None:
-        from camfab.verify_groove import verify_groove
-
-        check, files = verify_groove(analysis, requested)
-    elif analysis.partner is not None:
-        from camfab.verify_partner import verify_partner
-
-        check, files = verify_partner(analysis, requested)
-    elif analysis.geometry is not None:
-        check, single, _ = verify_plate(analysis, requested)
-        files = named(name, single)
-    else:
-        return analysis, Exports({}, {})
-    findings = [*analysis.findings, verification_finding(analysis, check)]
-    if check.hold is not None and analysis.partner is not None:
-        # the hold of the cams as written replaces that of the cams as sampled
-        from camfab.analysis.partner_checks import read_back_hold
-
-        findings = [read_back_hold(analysis, check.hold) if f.id == "hold" else f
-                    for f in findings]
-        analysis = replace(analysis, partner=replace(analysis.partner, hold=check.hold))
-    wanted = {name: data for name, data in files.items() if name in requested}
-    return (replace(analysis, verification=check, findings=findings),
-            Exports(wanted, {k: v for k, v in withheld.items() if k in requested}))
 
 
 def verify_plate(analysis: Analysis, requested: tuple[str, ...]) -> tuple[Verification,
@@ -213,67 +166,6 @@ def read_back(design: Design, geom: DiscGeometry, program: MotionProgram, dxf: b
         deviation = float(written.distance(exact.xy).max())
     return ReadBack(part, lift_check(geom.cam, program, part), source, len(written.vertices),
                     deviation)
-
-
-def _verify_drum(analysis: Analysis) -> tuple[Verification, dict[str, bytes], dict[str, str]]:
-    from camfab.export.dxf import read_cut_outline, render_development_dxf
-    from camfab.export.stl import check_stl, read_stl, render_drum_stl
-    from camfab.export.svg import render_svg
-    from camfab.geometry.arcfit import fit_arcs
-    from camfab.geometry.disc_geometry import LiftCheck
-    from camfab.geometry.drum_mesh import development, groove_lift, groove_tube, row_points
-    from camfab.geometry.plate import Contours
-    from camfab.geometry.sampling import SAMPLING_SHARE
-    from camfab.motion.program import cycle_angles
-
-    design, dense = analysis.design, analysis.drum
-    assert dense is not None
-    d, program = dense.drum, analysis.program
-    tolerance = SAMPLING_SHARE * design.manufacturing.tolerance
-    files: dict[str, bytes] = {}
-    withheld: dict[str, str] = {}
-    folded = any(f.id == "groove" and not f.ok for f in analysis.findings)
-    if folded:
-        # the inner wall folds over itself: no solid a roller could run in. The roller is run
-        # between the exact walls as computed, to show how far the fold would throw it.
-        tube = groove_tube(d, program, tolerance)
-        vertices, faces = tube.vertices, tube.faces
-        stl_check = None
-        withheld["stl"] = ("the groove folds over itself (see the groove check): there is no "
-                           "solid a roller could run in")
-        source = "the exact walls (the groove folds: no STL)"
-    else:
-        # the solid, read back
-        stl, volume, area = render_drum_stl(analysis)
-        mesh = read_stl(stl)
-        stl_check = check_stl(stl, volume, design.manufacturing.tolerance * area, mesh)
-        vertices = np.asarray(mesh.vertices, dtype=np.float64)
-        faces = np.asarray(mesh.faces)
-        files["stl"] = stl
-        source = (f"the roller run through the groove of {design.name}.stl read back (between "
-                  f"its wall rows)")
-    # the roller run between the wall vertices found, and points along the rows' edges between
-    # them no further apart than a quarter of the roller's radius
-    theta = cycle_angles(DRUM_VERIFY_STEP)
-    centre_z = d.start + program.evaluate(theta)[0]
-    surface = row_points(d, vertices, faces, d.roller / 4.0, d.axis_angle(theta))
-    low, high = groove_lift(d, surface, theta, centre_z)
-    found = np.isfinite(low) & np.isfinite(high)  # the roller meets both walls
-    error = np.full(theta.size, np.inf)
-    error[found] = 0.5 * (low[found] + high[found]) - centre_z[found]
-    # the developed groove: the walls at the surface, closed across the seam
-    dev = development(d, program, tolerance)
-    band = fit_arcs(np.vstack((dev.lower, dev.upper[::-1])), tolerance)
-    centre = fit_arcs(dev.centre, tolerance, closed=False)
-    dxf = render_development_dxf(analysis, band, centre, (dev.width, dev.height))
-    written = read_cut_outline(dxf, design.mm_per_unit)
-    exact = development(d, program, tolerance / 64.0)
-    deviation = float(written.distance(np.vstack((exact.lower, exact.upper))).max())
-    files["dxf"] = dxf
-    files["svg"] = render_svg(analysis, Contours((band,)))
-    check = Verification(LiftCheck(theta, error, error), source, len(written.vertices),
-                         deviation, stl_check, exempt=folded)
-    return check, files, withheld
 
 
 def verification_finding(analysis: Analysis, check: Verification) -> Finding:

@@ -17,12 +17,16 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from camfab.verification import Verification, named
+from camfab.kinds.readback import Verification, named
 
 if TYPE_CHECKING:
+    from camfab.analysis.findings import Finding
+    from camfab.analysis.kinematics import MotionUnits, SegmentStats
+    from camfab.analysis.record import Analysis
+    from camfab.design import Design
     from camfab.geometry.plate import Contours
     from camfab.geometry.profile import Profile
-    from camfab.pipeline import Analysis
+    from camfab.motion.program import MotionProgram
 
 
 def verify_groove(analysis: Analysis, requested: tuple[str, ...]) -> tuple[
@@ -109,3 +113,28 @@ def _toolpath(analysis: Analysis, part_holes: Contours) -> Contours | None:
             passes.append(fit_arcs(xy, geom.tolerance))
     return Contours((*passes, *inside.profiles),
                     (walls.outer_radius + cutter, *inside.circles))
+
+
+class Groove:
+    """The face-groove cam (``cam.type: groove``): a disc cam's pitch curve, the roller held
+    between the groove's two walls."""
+
+    drives_both_ways = True
+
+    @staticmethod
+    def analyse(design: Design, program: MotionProgram, units: MotionUnits,
+                stats: list[SegmentStats], findings: list[Finding]) -> Analysis:
+        """A plate cam's analysis with the groove's walls and checks."""
+        from camfab.analysis.groove_checks import with_groove
+        from camfab.kinds.disc import analyse_plate
+
+        return with_groove(analyse_plate(design, program, units, stats, findings))
+
+    @staticmethod
+    def files(analysis: Analysis, requested: tuple[str, ...]) -> tuple[
+            Analysis, Verification, dict[str, dict[str, bytes]], dict[str, str]]:
+        check, files = verify_groove(analysis, requested)
+        return analysis, check, files, {}
+
+
+KIND = Groove()

@@ -1,0 +1,60 @@
+"""Cam kinds: each kind of cam is one module implementing :class:`CamKind`, found through
+:data:`REGISTRY` by the design's ``cam.type``.
+
+A kind analyses a design (its geometry, key numbers and findings) and makes its manufacturing
+files, reading them back and running the follower over them. The pipeline knows no kind: it asks
+:func:`kind_of` for the design's and calls it. Adding a kind means adding one module here and
+one line to :data:`REGISTRY`.
+"""
+
+from __future__ import annotations
+
+from importlib import import_module
+from typing import TYPE_CHECKING, Protocol
+
+if TYPE_CHECKING:
+    from camfab.analysis.findings import Finding
+    from camfab.analysis.kinematics import MotionUnits, SegmentStats
+    from camfab.analysis.record import Analysis
+    from camfab.design import Design
+    from camfab.kinds.readback import Verification
+    from camfab.motion.program import MotionProgram
+
+
+class CamKind(Protocol):
+    """What a kind of cam does for the pipeline."""
+
+    #: True when the cam drives its follower both ways (a groove, a conjugate pair, a yoke): no
+    #: spring to size, and the forces on either side are the kind's own.
+    drives_both_ways: bool
+
+    def analyse(self, design: Design, program: MotionProgram, units: MotionUnits,
+                stats: list[SegmentStats], findings: list[Finding]) -> Analysis:
+        """The analysis of *design*: the kind's geometry, numbers and checks, before the
+        *findings* every cam has (continuity, bore)."""
+
+    def files(self, analysis: Analysis, requested: tuple[str, ...]) -> tuple[
+            Analysis, Verification, dict[str, dict[str, bytes]], dict[str, str]]:
+        """The manufacturing files (``dxf``, ``svg``, ``stl``) by output name and file name,
+        made and read back: the analysis (with what reading them back changes), what was
+        found, the files, and why an output the cam cannot have was withheld. Whatever the
+        read-back needs is made whether *requested* or not."""
+
+
+#: ``cam.type`` -> the module holding its kind (imported when a design of that type is built).
+REGISTRY: dict[str, str] = {
+    "disc": "camfab.kinds.disc",
+    "circular-arc": "camfab.kinds.shaped",
+    "tangent": "camfab.kinds.shaped",
+    "cylindrical": "camfab.kinds.drum",
+    "groove": "camfab.kinds.groove",
+    "conjugate": "camfab.kinds.pair",
+    "constant-breadth": "camfab.kinds.pair",
+    "linear": "camfab.kinds.linear",
+}
+
+
+def kind_of(cam_type: str) -> CamKind:
+    """The kind of a ``cam.type`` (the design has been validated: the type is registered)."""
+    kind: CamKind = import_module(REGISTRY[cam_type]).KIND
+    return kind
