@@ -30,15 +30,21 @@ def solid_time(design_path: Path, runs: int) -> tuple[float, int]:
     """Median seconds to make the groove solid and its STL bytes, and the STL's face count."""
     sys.path.insert(0, str(ROOT))
     from camfab.design import load_design
-    from camfab.export.stl import render_drum_stl
+    from camfab.export.stl import render_stl
+    from camfab.kinds import kind_of
     from camfab.pipeline import analyse
 
     analysis = analyse(load_design(design_path))
-    data, _, _ = render_drum_stl(analysis)  # warm every import
+    kind = kind_of(analysis.design.cam.type)
+    solid = kind.part(analysis).solid
+    assert solid is not None, "the groove folds: no solid"
+    data = render_stl(solid).data  # warm every import
     times = []
     for _ in range(runs):
         start = time.perf_counter()
-        data, _, _ = render_drum_stl(analysis)
+        solid = kind.part(analysis).solid
+        assert solid is not None
+        data = render_stl(solid).data
         times.append(time.perf_counter() - start)
     return statistics.median(times), int.from_bytes(data[80:84], "little")
 

@@ -11,15 +11,15 @@ median of N runs, in milliseconds.
   every check.
 - ``dxf``, ``svg``, ``stl``, ``stl check``, ``verify``: one ``verify_exports(analysis, ("dxf",
   "svg", "stl"))`` call, the manufacturing files and their verification, split by timing the
-  exporters it calls directly: each exporter function of ``camfab.export`` is wrapped, for that
-  call only, in a timer (the outermost wrapped call counts, so nothing is counted twice).
-  ``dxf`` is writing the DXF (``render_dxf`` and the groove, linear and drum variants), ``svg``
-  is ``render_svg``, ``stl`` is making the solid and its bytes (``render_stl`` and variants,
-  ``expected_volume``), ``stl check`` is reading the STL back and checking it closed, outward
-  and of the part's volume (``read_stl``, ``check_stl``), and ``verify`` is the rest of the
-  call: the plate's contours, reading the DXF back and running the follower over the CUT
-  outline (a drum: the roller through the groove of the STL read back, and the development
-  measured), which every build makes whatever outputs are asked for.
+  format writers it calls directly: each writer function of ``camfab.export`` is wrapped, for
+  that call only, in a timer (the outermost wrapped call counts, so nothing is counted twice).
+  ``dxf`` is writing the DXF (``render_dxf``), ``svg`` is ``render_svg``, ``stl`` is making the
+  solid and its bytes (``render_stl``), ``stl check`` is reading the STL back and checking it
+  closed, outward and of the part's volume (``read_stl``, ``check_stl``), and ``verify`` is the
+  rest of the call: the kind's part (the plate's contours, drawings and solid described),
+  reading the DXF back and running the follower over the CUT outline (a drum: the roller
+  through the groove of the STL read back, and the development measured), which every build
+  makes whatever outputs are asked for.
 - ``html``, ``json``, ``csv``: the renderers of ``camfab.pipeline.RENDERERS`` (report page,
   report JSON, motion table) called on the verified analysis.
 - ``render``: ``render(analysis)``: every output at once, what a build does after the analysis.
@@ -59,14 +59,9 @@ CASES = (
 
 #: Part of verify_exports -> the exporter functions timed as that part, by module.
 PARTS: dict[str, dict[str, tuple[str, ...]]] = {
-    "dxf": {"camfab.export.dxf": ("render_dxf", "render_development_dxf"),
-            "camfab.export.groove_dxf": ("render_groove_dxf",),
-            "camfab.export.linear_files": ("render_linear_dxf",)},
+    "dxf": {"camfab.export.dxf": ("render_dxf",)},
     "svg": {"camfab.export.svg": ("render_svg",)},
-    "stl": {"camfab.export.stl": ("render_stl", "render_stack_stl", "render_drum_stl",
-                                  "expected_volume"),
-            "camfab.export.groove_stl": ("render_groove_stl", "groove_volume"),
-            "camfab.export.linear_files": ("render_linear_stl",)},
+    "stl": {"camfab.export.stl": ("render_stl",)},
     "stl check": {"camfab.export.stl": ("read_stl", "check_stl")},
 }
 

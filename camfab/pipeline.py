@@ -60,8 +60,8 @@ def analyse(design: Design) -> Analysis:
 
 
 def verify_exports(analysis: Analysis, requested: tuple[str, ...]) -> tuple[Analysis, Exports]:
-    """Make the manufacturing files through the design's kind, read them back and run the
-    follower over them.
+    """The design's part (through its kind) serialised by the format writers, the files read
+    back and the follower run over them.
 
     Returns the analysis with its :class:`~camfab.kinds.readback.Verification` (and the
     ``verification`` check) and the *requested* files. Whatever the verification reads is made
@@ -69,15 +69,18 @@ def verify_exports(analysis: Analysis, requested: tuple[str, ...]) -> tuple[Anal
     """
     from dataclasses import replace
 
+    from camfab.export.serialise import serialise
     from camfab.kinds import kind_of
     from camfab.kinds.readback import Exports, verification_finding
 
-    analysis, check, files, withheld = kind_of(analysis.design.cam.type).files(analysis,
-                                                                                requested)
+    kind = kind_of(analysis.design.cam.type)
+    part = kind.part(analysis)
+    made = serialise(analysis.design, part, requested)
+    analysis, check = kind.verify(analysis, part, made)
     findings = [*analysis.findings, verification_finding(analysis, check)]
-    wanted = {name: data for name, data in files.items() if name in requested}
+    wanted = {name: data for name, data in made.files.items() if name in requested}
     return (replace(analysis, verification=check, findings=findings),
-            Exports(wanted, {k: v for k, v in withheld.items() if k in requested}))
+            Exports(wanted, {k: v for k, v in part.withheld.items() if k in requested}))
 
 
 def _report_json(analysis: Analysis) -> bytes:

@@ -10,7 +10,6 @@ inside the groove) that of the disc's, which assumes a cutter outside the outlin
 
 from __future__ import annotations
 
-from dataclasses import replace
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -24,10 +23,10 @@ if TYPE_CHECKING:
     from camfab.analysis.record import Analysis
 
 
-def with_groove(analysis: Analysis) -> Analysis:
-    """*analysis* (a disc cam's, its working curve the inner wall) with the groove's walls and
-    its findings: the ``groove`` check takes the place of the disc's ``undercut`` (which speaks
-    of the inner wall alone), and the groove's ``cutter`` check that of the disc's."""
+def with_groove(analysis: Analysis) -> tuple[GrooveWalls, list[Finding]]:
+    """The groove's walls of *analysis* (a disc cam's, its working curve the inner wall) and its
+    findings: the ``groove`` check takes the place of the disc's ``undercut`` (which speaks of
+    the inner wall alone), and the groove's ``cutter`` check that of the disc's."""
     geom = analysis.geometry
     assert geom is not None
     walls = groove_walls(analysis.design, geom)
@@ -35,7 +34,7 @@ def with_groove(analysis: Analysis) -> Analysis:
     findings = [f for f in analysis.findings if f.id not in ("undercut", "cutter")]
     found = [groove_finding(analysis, walls), cutter_finding(analysis, walls)]
     findings[at:at] = [f for f in found if f is not None]
-    return replace(analysis, groove=walls, findings=findings)
+    return walls, findings
 
 
 def groove_finding(analysis: Analysis, walls: GrooveWalls) -> Finding:

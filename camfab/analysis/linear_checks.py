@@ -17,13 +17,10 @@ import numpy as np
 from camfab.analysis.cam_checks import CurveNumbers, Extreme, curve_extremes, fmt, where
 from camfab.analysis.findings import Finding, listed
 from camfab.analysis.ranges import Range, merge, ranges_deg
-from camfab.geometry.linear import LinearGeometry, linear_geometry
+from camfab.geometry.linear import LinearGeometry
 
 if TYPE_CHECKING:
-    from camfab.analysis.kinematics import MotionUnits, SegmentStats
-    from camfab.analysis.record import Analysis
     from camfab.design import Design
-    from camfab.motion.program import MotionProgram
 
 
 @dataclass(frozen=True)
@@ -201,24 +198,10 @@ def linear_findings(design: Design, geom: LinearGeometry,
     return [f for f in found if f is not None]
 
 
-def analyse_linear(design: Design, program: MotionProgram, units: MotionUnits,
-                   stats: list[SegmentStats], findings: list[Finding]) -> Analysis:
-    """The analysis of a linear cam: its geometry, numbers and checks, before the continuity
-    *findings* the pipeline found."""
-    from camfab.analysis.record import Analysis
-
-    geom = linear_geometry(design)
-    numbers = linear_numbers(geom, len(program.segments))
-    return Analysis(design, program, units, stats,
-                    [*linear_findings(design, geom, numbers), *findings],
-                    numbers=numbers, linear=geom)
-
-
-def linear_report_geometry(analysis: Analysis) -> dict[str, Any]:
+def linear_report_geometry(design: Design, geom: LinearGeometry,
+                           numbers: LinearNumbers) -> dict[str, Any]:
     """The report's ``geometry`` section of a linear cam (mm, deg of the cycle, and the travel
     in mm where something happens)."""
-    design, geom, numbers = analysis.design, analysis.linear, analysis.numbers
-    assert geom is not None and isinstance(numbers, LinearNumbers)
     cam = geom.cam
     stroke = cam.stroke
     rpm = design.cam.speed_rpm

@@ -26,9 +26,10 @@ if TYPE_CHECKING:
 PER_CAM_CHECKS = ("pressure_angle", "undercut", "curvature", "face_width", "cutter")
 
 
-def with_partner(analysis: Analysis) -> Analysis:
-    """*analysis* of a conjugate or constant-breadth cam with its second contact, the second
-    cam's checks and the ``hold`` check."""
+def with_partner(analysis: Analysis) -> tuple[Partner, list[Finding]]:
+    """What holds the follower on its other side in *analysis* of a conjugate or
+    constant-breadth cam (its second contact), and the findings with the second cam's checks
+    and the ``hold`` check."""
     from camfab.geometry.groove import wall_contact
 
     design, geom = analysis.design, analysis.geometry
@@ -44,9 +45,8 @@ def with_partner(analysis: Analysis) -> Analysis:
         held = hold(theta, spacing, (geom.profile, geom.cam), (geom.profile, geom.cam), math.pi)
         partner = Partner("constant-breadth", spacing, held, contact=contact,
                           flat=geom.cam.follower.flat)
-        return replace(analysis, partner=partner,
-                       findings=[*analysis.findings, hold_finding(design.cam.type, partner.hold,
-                                                                  spacing, tolerance_of(analysis))])
+        return partner, [*analysis.findings, hold_finding(design.cam.type, partner.hold,
+                                                          spacing, tolerance_of(analysis))]
     cam_b, spacing = partner_cam(design, geom.cam)
     program_b = opposite(analysis.program)
     geom_b = plate_geometry(cam_b, program_b, design.manufacturing.tolerance)
@@ -63,7 +63,7 @@ def with_partner(analysis: Analysis) -> Analysis:
                   for f in cam_findings(design, geom_b, numbers_b, program_b)]
     found = [*findings_a, *findings_b,
              hold_finding(partner.hold_kind, held, spacing, tolerance_of(analysis)), *others]
-    return replace(analysis, partner=partner, findings=found)
+    return partner, found
 
 
 def tolerance_of(analysis: Analysis) -> float:

@@ -28,42 +28,20 @@ def motion_table(analysis: Analysis) -> tuple[list[str], np.ndarray]:
     """Column names and the (rows, columns) array of values (NaN where not computed)."""
     design, units = analysis.design, analysis.units
     theta = cycle_angles(design.table_step)
-    count = theta.size
     s = analysis.program.evaluate(theta)
     omega = design.cam.omega
     columns = ["cam_angle_deg", units.displacement_column]
     values = [np.degrees(theta), np.degrees(s[0]) if units.oscillating else s[0]]
-    linear = analysis.linear
-    if linear is not None:  # a linear cam: the travel of the plate (a stroke is 360°)
-        columns.insert(1, "cam_travel_mm")
-        values.insert(1, linear.cam.travel(theta))
+    leading = analysis.result.table_leading(theta)
+    columns[1:1] = [name for name, _ in leading]
+    values[1:1] = [column for _, column in leading]
     if omega is not None:
         for order in (1, 2, 3):
             columns.append(units.key(order))
             values.append(units.to_si(order, s[order], omega))
-    columns += ["pressure_angle_deg", "pitch_radius_of_curvature_mm",
-                "profile_radius_of_curvature_mm"]
-    geom, dense = analysis.geometry, analysis.drum
-    if dense is not None:  # a drum: at the groove's floor, and the groove developed at its pitch
-        d = dense.drum
-        values += [np.degrees(d.pressure_angle(s[1], d.root)),
-                   d.developed_radius(s[1], s[2], d.pitch), np.full(count, np.nan)]
-    elif linear is not None:
-        x = linear.cam.travel(theta)
-        values += [np.degrees(linear.cam.pressure_angle(s)), linear.cam.pitch(x, s).radius,
-                   linear.cam.working(x, s).radius]
-    elif geom is None:
-        values += [np.full(count, np.nan)] * 3
-    else:
-        values += [np.degrees(geom.cam.pressure_angle(theta, s)),
-                   geom.cam.pitch(theta, s).radius, geom.cam.working(theta, s).radius]
-    partner = analysis.partner
-    if partner is not None and partner.geometry is not None and partner.program is not None:
-        cam_b, s_b = partner.geometry.cam, partner.program.evaluate(theta)
-        columns += ["pressure_angle_b_deg", "pitch_b_radius_of_curvature_mm",
-                    "profile_b_radius_of_curvature_mm"]
-        values += [np.degrees(cam_b.pressure_angle(theta, s_b)), cam_b.pitch(theta, s_b).radius,
-                   cam_b.working(theta, s_b).radius]
+    for name, column in analysis.result.table_columns(theta, s):
+        columns.append(name)
+        values.append(column)
     return columns, np.column_stack(values)
 
 

@@ -18,7 +18,6 @@ if TYPE_CHECKING:
     import jinja2
 
     from camfab.analysis.record import Analysis
-    from camfab.design import Design
 
 
 def num(value: float | None, digits: int = 5) -> str:
@@ -87,36 +86,6 @@ def _verification(report: dict[str, Any]) -> list[tuple[str, str]]:
     return rows
 
 
-def _contact_changes(report: dict[str, Any]) -> dict[str, Any] | None:
-    """Where a positive-drive cam's follower passes from one side to the other: a groove's
-    walls, a conjugate pair's cams, a yoke's faces or rollers (None for other cams)."""
-    geometry = report["geometry"]
-    if "wall_changes" in geometry:
-        return {"title": "Groove walls: where contact changes walls",
-                "intro": "The inner wall pushes the follower away from the cam centre where its "
-                         "acceleration is positive, the outer wall pulls it back where it is "
-                         "negative. At these cam angles the acceleration changes sign: contact "
-                         "crosses the clearance to the other wall, and the roller then rolls on "
-                         "that wall and reverses its spin.",
-                "still": "The follower never accelerates: no wall carries it.",
-                "rows": [[num(c["cam_angle_deg"]), f"{c['from']} wall", f"{c['onto']} wall"]
-                         for c in geometry["wall_changes"]]}
-    if "load_changes" in geometry:
-        return {"title": "Where the load passes from one side to the other",
-                "intro": "The follower is pushed away from the cam centre where its acceleration "
-                         "is positive and pulled back where it is negative; at these cam angles "
-                         "the other side takes the load (any play between the two shows here).",
-                "still": "The follower never accelerates: neither side carries it.",
-                "rows": [[num(c["cam_angle_deg"]), c["from"], c["onto"]]
-                         for c in geometry["load_changes"]]}
-    return None
-
-
-def _motion_of(design: Design) -> str:
-    """How the cam moves: its sense of rotation, or a linear cam's direction of travel."""
-    return "moving toward −X" if design.cam.linear else design.cam.rotation
-
-
 @cache
 def page_template(name: str) -> jinja2.Template:
     """The page template *name* of the package, compiled once per process (compiling costs a
@@ -139,22 +108,21 @@ def render_report_html(analysis: Analysis) -> bytes:
     head, rows = _segments(report)
     key_head, key_rows = _key_points(report)
     follower = f"{design.follower.motion} {design.follower.type} follower"
-    kind = "drum cam" if design.cam.type == "cylindrical" else f"{design.cam.type} cam"
+    result = analysis.result
+    kind = result.kind_name(design)
     page = page_template("report.html.j2").render(
         version=__version__, name=design.name,
         description=design.description or f"{kind}, {follower}",
         exit_code=analysis.exit_code,
         verdict="PASS" if analysis.exit_code == 0 else "FAIL",
-        summary=f"{kind}, {_motion_of(design)}, {follower}; {errors} error(s), "
+        summary=f"{kind}, {result.motion_words(design)}, {follower}; {errors} error(s), "
                 f"{warnings} warning(s)",
         findings=_findings(analysis),
         drawing=figures.cam_drawing(analysis),
-        drawing_title=("The groove developed" if design.cam.type == "cylindrical"
-                       else "The plate at travel 0" if design.cam.linear
-                       else "The cam at θ = 0"),
+        drawing_title=result.drawing_title,
         numbers=_numbers(report), segment_head=head, segment_rows=rows,
         key_head=key_head, key_rows=key_rows,
-        changes=_contact_changes(report),
+        changes=result.contact_changes(report),
         diagrams=figures.diagrams(analysis),
         dynamics=figures.has_dynamics(analysis),
         verification=_verification(report))

@@ -1,9 +1,9 @@
-"""``NAME.stl``: the disc-cam plate for 3-D printing (SPEC §5): binary, millimetres, watertight.
+"""``NAME.stl``: a cam's solid for 3-D printing (SPEC §5): binary, millimetres, watertight.
 
-manifold3d builds the solid (the outline with the bore and keyway as holes, extruded from z = 0 to
-z = thickness), which keeps it a closed 2-manifold with outward normals; trimesh writes the binary
-file. Curves are the tolerance-sampled profile; the bore's circle is cut into chords within the
-same tolerance.
+manifold3d builds the solid a kind describes (:data:`camfab.export.part.Solid`: extrusions of
+the tolerance-sampled contours, cylinders cut into chords within the tolerance, meshes, and their
+booleans), which keeps it a closed 2-manifold with outward normals; trimesh writes the binary
+file and reads it back.
 """
 
 from __future__ import annotations
@@ -16,11 +16,11 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from camfab.arrays import Array
+from camfab.export.part import Cylinder, Difference, Extrusion, Mesh, Solid
 from camfab.geometry.sampling import arc_points
 
 if TYPE_CHECKING:
-    from camfab.analysis.record import Analysis
-    from camfab.geometry.plate import Contours, Plate
+    from camfab.geometry.plate import Contours
 
 
 def hole_points(holes: Contours, tolerance: float) -> list[Array]:
@@ -74,59 +74,64 @@ def binary_stl(solid: Any) -> bytes:
 #: measured 0.15 s slower on two cores.
 
 
-def render_drum_stl(analysis: Analysis) -> tuple[bytes, float, float]:
-    """The binary STL of a drum cam (mm): the drum along Z from 0 to its length, the bore
-    through, and the groove subtracted once as one closed tube; with the solid's volume (mm³)
-    and surface area (mm²) as built."""
-    import manifold3d
+@dataclass(frozen=True)
+class StlFile:
+    """A solid written as binary STL: its bytes, and the volume (mm³) and surface area (mm²)
+    of the solid as built (before its vertices were rounded to float32)."""
+
+    data: bytes
+    volume_mm3: float
+    area_mm2: float
+
+
+def render_stl(solid: Solid) -> StlFile:
+    """The binary STL of *solid* (mm), built with manifold3d (see :func:`build`)."""
     import trimesh  # noqa: F401  (before manifold3d computes: see above)
 
-    from camfab.geometry.drum_mesh import groove_tube
-    from camfab.geometry.sampling import SAMPLING_SHARE
-
-    dense = analysis.drum
-    assert dense is not None
-    d = dense.drum
-    tolerance = SAMPLING_SHARE * analysis.design.manufacturing.tolerance
-    tube = groove_tube(d, analysis.program, tolerance)
-    groove = manifold3d.Manifold(manifold3d.Mesh64(
-        vert_properties=np.ascontiguousarray(tube.vertices, dtype=np.float64),
-        tri_verts=np.ascontiguousarray(tube.faces, dtype=np.uint64)))
-    body = manifold3d.Manifold.cylinder(d.length, d.radius,
-                                        circular_segments=circle_segments(d.radius, tolerance))
-    if d.bore > 0.0:
-        bore = manifold3d.Manifold.cylinder(d.length + 2.0, d.bore,
-                                            circular_segments=circle_segments(d.bore, tolerance))
-        body = body - bore.translate((0.0, 0.0, -1.0))
-    solid = body - groove
-    return binary_stl(solid), float(solid.volume()), float(solid.surface_area())
+    held: list[Any] = []
+    made = build(solid, held)
+    return StlFile(binary_stl(made), float(made.volume()), float(made.surface_area()))
 
 
-def render_stl(analysis: Analysis, plate: Plate) -> bytes | None:
-    """The binary STL of the plate, or None when the design gives no ``thickness``."""
-    geom, cam = analysis.geometry, analysis.design.cam
-    assert geom is not None
-    if cam.thickness is None:
-        return None
-    return render_stack_stl([geom.outline_points()], plate.holes, geom.tolerance, cam.thickness)
+def build(solid: Solid, held: list[Any]) -> Any:
+    """*solid* as a ``manifold3d.Manifold``: extrusions of even-odd cross-sections, polygonal
+    cylinders, meshes, differences and batch unions, built depth first in the order given.
 
-
-def render_stack_stl(outlines: list[Array], holes: Contours, tolerance: float,
-                     thickness: float) -> bytes:
-    """The binary STL of plates stacked along Z on one bore (mm): plate i is the outline
-    *outlines[i]* with the *holes*, from z = i·thickness to (i + 1)·thickness, the plates joined
-    face to face into one solid (a conjugate pair printed as one part; one outline, one plate)."""
+    Every solid built on the way is kept in *held* until the caller lets it go: manifold3d
+    computes when the mesh is asked for, and folds a boolean whose operands nobody else holds
+    into one n-ary boolean, whose facets come out in another order (the same solid, other
+    bytes)."""
     import manifold3d
-    import trimesh  # noqa: F401  (before manifold3d computes: see above)
 
-    bores = hole_points(holes, tolerance)
-    plates = [manifold3d.Manifold.extrude(
-                  manifold3d.CrossSection([outline, *bores], manifold3d.FillRule.EvenOdd),
-                  thickness).translate((0.0, 0.0, i * thickness))
-              for i, outline in enumerate(outlines)]
-    if len(plates) == 1:
-        return binary_stl(plates[0])
-    return binary_stl(manifold3d.Manifold.batch_boolean(plates, manifold3d.OpType.Add))
+    made: Any
+    if isinstance(solid, Extrusion):
+        section = manifold3d.CrossSection(list(solid.chains), manifold3d.FillRule.EvenOdd)
+        made = manifold3d.Manifold.extrude(section, solid.height)
+        if solid.z is not None:
+            made = made.translate((0.0, 0.0, solid.z))
+    elif isinstance(solid, Cylinder):
+        made = manifold3d.Manifold.cylinder(solid.height, solid.radius,
+                                            circular_segments=solid.segments)
+        if solid.z is not None:
+            made = made.translate((0.0, 0.0, solid.z))
+    elif isinstance(solid, Mesh):
+        made = manifold3d.Manifold(manifold3d.Mesh64(
+            vert_properties=np.ascontiguousarray(solid.vertices, dtype=np.float64),
+            tri_verts=np.ascontiguousarray(solid.faces, dtype=np.uint64)))
+    elif isinstance(solid, Difference):
+        if solid.cut_first:
+            cut = build(solid.cut, held)
+            body = build(solid.body, held)
+        else:
+            body = build(solid.body, held)
+            cut = build(solid.cut, held)
+        made = body - cut
+    else:
+        parts = [build(part, held) for part in solid.parts]
+        made = (parts[0] if len(parts) == 1 else
+                manifold3d.Manifold.batch_boolean(parts, manifold3d.OpType.Add))
+    held.append(made)
+    return made
 
 
 #: A face with less area than this (mm²) counts as degenerate: far below any facet a plate of
@@ -161,18 +166,6 @@ class StlCheck:
         return (self.watertight and self.consistent_winding and self.degenerate_faces == 0
                 and self.short_edges == 0 and self.sliver_faces == 0
                 and abs(self.volume_mm3 - self.expected_volume_mm3) <= self.volume_allowance_mm3)
-
-
-def expected_volume(analysis: Analysis, plate: Plate) -> tuple[float, float]:
-    """The plate's volume (mm³) from its exact hole areas and its outline's area, and the
-    allowance for the tolerance along every contour (mm³)."""
-    geom, cam = analysis.geometry, analysis.design.cam
-    assert geom is not None and cam.thickness is not None
-    area = geom.profile.area - holes_area(plate.holes)
-    chains = [geom.outline_points(), *hole_points(plate.holes, geom.tolerance)]
-    length = sum(chain_length(c) for c in chains)
-    tolerance = analysis.design.manufacturing.tolerance
-    return area * cam.thickness, tolerance * length * cam.thickness
 
 
 def read_stl(data: bytes) -> Any:

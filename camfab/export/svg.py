@@ -17,7 +17,7 @@ from camfab.arrays import Array
 from camfab.geometry.profile import Profile
 
 if TYPE_CHECKING:
-    from camfab.analysis.record import Analysis
+    from camfab.design import Design
     from camfab.geometry.plate import Contours
 
 #: Margin around the drawing (its exact bounding box), as a fraction of its size: room for the
@@ -62,11 +62,10 @@ def drawn_bounds(contours: Contours, pocket: Contours | None = None) -> tuple[Ar
             np.max([high for _, high in boxes], axis=0))
 
 
-def render_svg(analysis: Analysis, contours: Contours, pocket: Contours | None = None) -> bytes:
+def render_svg(design: Design, contours: Contours, pocket: Contours | None = None) -> bytes:
     """The SVG file as bytes: *contours* (mm; a disc's CUT contours, or a drum's developed
     groove) at true size, outlines only; a groove cam's *pocket* walls (to mill, not to cut
     through) in blue in a group of their own, ``id="POCKET"``."""
-    design = analysis.design
     scale = 1.0 / design.mm_per_unit
     shapes = [f'<path d="{path_data(profile, scale)}"/>' for profile in contours.profiles]
     shapes += [f'<circle cx="0" cy="0" r="{_num(radius * scale)}"/>'

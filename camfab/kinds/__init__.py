@@ -1,10 +1,10 @@
 """Cam kinds: each kind of cam is one module implementing :class:`CamKind`, found through
 :data:`REGISTRY` by the design's ``cam.type``.
 
-A kind analyses a design (its geometry, key numbers and findings) and makes its manufacturing
-files, reading them back and running the follower over them. The pipeline knows no kind: it asks
-:func:`kind_of` for the design's and calls it. Adding a kind means adding one module here and
-one line to :data:`REGISTRY`.
+A kind analyses a design (its geometry, key numbers and findings), describes the part it makes
+as data the format writers serialise, and reads the files back, running the follower over
+them. The pipeline knows no kind: it asks :func:`kind_of` for the design's and calls it.
+Adding a kind means adding one module here and one line to :data:`REGISTRY`.
 """
 
 from __future__ import annotations
@@ -17,6 +17,8 @@ if TYPE_CHECKING:
     from camfab.analysis.kinematics import MotionUnits, SegmentStats
     from camfab.analysis.record import Analysis
     from camfab.design import Design
+    from camfab.export.part import Part
+    from camfab.export.serialise import PartFiles
     from camfab.kinds.readback import Verification
     from camfab.motion.program import MotionProgram
 
@@ -33,12 +35,15 @@ class CamKind(Protocol):
         """The analysis of *design*: the kind's geometry, numbers and checks, before the
         *findings* every cam has (continuity, bore)."""
 
-    def files(self, analysis: Analysis, requested: tuple[str, ...]) -> tuple[
-            Analysis, Verification, dict[str, dict[str, bytes]], dict[str, str]]:
-        """The manufacturing files (``dxf``, ``svg``, ``stl``) by output name and file name,
-        made and read back: the analysis (with what reading them back changes), what was
-        found, the files, and why an output the cam cannot have was withheld. Whatever the
-        read-back needs is made whether *requested* or not."""
+    def part(self, analysis: Analysis) -> Part:
+        """What the cam is made of, as data the format writers serialise: its drawings (DXF),
+        views (SVG) and solid (STL), which of them its read-back needs, and why an output the
+        cam cannot have is withheld."""
+
+    def verify(self, analysis: Analysis, part: Part, files: PartFiles) -> tuple[
+            Analysis, Verification]:
+        """The *files* made of *part* read back as their users would, the follower run over
+        them: the analysis (with what reading them back changes) and what was found."""
 
 
 #: ``cam.type`` -> the module holding its kind (imported when a design of that type is built).

@@ -4,37 +4,221 @@ groove, conjugate and constant-breadth)."""
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+from camfab.analysis.record import TABLE_COLUMNS, Analysis, CamResult, terse
 
 if TYPE_CHECKING:
+    from camfab.analysis.cam_checks import CamNumbers
     from camfab.analysis.findings import Finding
     from camfab.analysis.kinematics import MotionUnits, SegmentStats
-    from camfab.analysis.record import Analysis
+    from camfab.arrays import Array
     from camfab.design import Design
+    from camfab.export.part import Drawing, Part, Solid
+    from camfab.export.serialise import PartFiles
+    from camfab.geometry.disc_geometry import DiscGeometry, LiftCheck
+    from camfab.geometry.plate import Contours, Plate
     from camfab.kinds.readback import Verification
     from camfab.motion.program import MotionProgram
+
+
+@dataclass(frozen=True)
+class PlateResult(CamResult):
+    """A plate cam's exact curves (mm) and key numbers; what its report, motion table and
+    summary show of them."""
+
+    geometry: DiscGeometry
+    numbers: CamNumbers
+
+    def report_geometry(self, analysis: Analysis) -> dict[str, Any]:
+        from camfab.analysis.cam_checks import offset_side
+
+        design = analysis.design
+        geom, numbers = self.geometry, self.numbers
+        contact = numbers.face_contact_mm
+        required = None if contact is None else contact[1] - contact[0]
+        out: dict[str, Any] = {
+            "base_radius_mm": design.cam.base_radius,
+            "prime_radius_mm": geom.cam.prime_radius,
+            "max_radius_mm": numbers.max_radius_mm,
+            "pitch_min_radius_of_curvature_mm": numbers.pitch_min_convex.value,
+            "pitch_min_radius_of_curvature_at_deg": numbers.pitch_min_convex.at_deg,
+            "pitch_min_concave_radius_mm": numbers.pitch_min_concave.value,
+            "profile_min_radius_of_curvature_mm": numbers.profile_min_convex.value,
+            "profile_min_radius_of_curvature_at_deg": numbers.profile_min_convex.at_deg,
+            "profile_min_concave_radius_mm": numbers.profile_min_concave.value,
+            "profile_min_concave_radius_at_deg": numbers.profile_min_concave.at_deg,
+            "face_width_required_mm": required,
+            "face_contact_range_mm": None if contact is None else list(contact),
+            "pressure_angle_max_deg": numbers.pressure_angle.value,
+            "pressure_angle_max_at_deg": numbers.pressure_angle.at_deg,
+            "pressure_angle_limit_deg": math.degrees(design.pressure_angle_limit),
+            "offset_side_lowering_rise_pressure_angle": offset_side(design),
+            "undercut": geom.undercut,
+            "undercut_ranges_deg": [list(r) for r in numbers.undercut_ranges],
+            "profile_points": len(geom.profile.vertices),
+            "sampling_tolerance_mm": geom.tolerance,
+        }
+        if design.follower.oscillating:
+            out["rest_arm_angle_deg"] = math.degrees(geom.cam.rest)
+        return out
+
+    def sampled_lift(self) -> LiftCheck:
+        return self.geometry.lift
+
+    def table_columns(self, theta: Array, motion: Array) -> list[tuple[str, Array]]:
+        import numpy as np
+
+        cam = self.geometry.cam
+        return list(zip(TABLE_COLUMNS, (np.degrees(cam.pressure_angle(theta, motion)),
+                                        cam.pitch(theta, motion).radius,
+                                        cam.working(theta, motion).radius), strict=True))
+
+    def summary(self, analysis: Analysis) -> list[str]:
+        geom, numbers = self.geometry, self.numbers
+        count = len(geom.profile.vertices)
+        profile = (f"exact profile of {count} arcs and lines" if geom.exact else
+                   f"profile of {count} points within {geom.tolerance:.2g} mm")
+        return [f"cam: base radius {terse(analysis.design.cam.base_radius)} mm, prime radius "
+                f"{terse(geom.cam.prime_radius)} mm, largest radius "
+                f"{terse(numbers.max_radius_mm)} mm; pitch curve's smallest convex radius "
+                f"{terse(numbers.pitch_min_convex.value)} mm; {profile}; the follower run over "
+                f"it strays {geom.lift.max_mm:.2g} mm from the design"]
+
+    def pressure_panels(self, analysis: Analysis, top: Any, bottom: Any) -> None:
+        from camfab.kinds.plate_figures import plate_pressure_panels
+
+        plate_pressure_panels(self.geometry, top, bottom)
+
+    def drawing(self, analysis: Analysis) -> str:
+        from camfab.kinds.plate_figures import plate_drawing_svg
+
+        return plate_drawing_svg(self, analysis)
+
+    def draw_plate(self, ax: Any, analysis: Analysis) -> None:
+        """The plate in the report's drawing: its outline, filled."""
+        from camfab.kinds.plate_figures import draw_outline
+
+        draw_outline(ax, self.geometry)
+
+    def draw_other_side(self, ax: Any, analysis: Analysis) -> None:
+        """What holds the follower on its other side, in the report's drawing (nothing: a
+        spring)."""
 
 
 def analyse_plate(design: Design, program: MotionProgram, units: MotionUnits,
                   stats: list[SegmentStats], findings: list[Finding]) -> Analysis:
     """A plate cam's exact curves, key numbers and geometric checks (before *findings*)."""
     from camfab.analysis.cam_checks import cam_findings, cam_numbers
-    from camfab.analysis.record import Analysis
     from camfab.geometry.disc_geometry import disc_geometry
 
     geometry = disc_geometry(design)
     numbers = cam_numbers(geometry, len(program.segments))
     findings = [*cam_findings(design, geometry, numbers), *findings]
-    return Analysis(design, program, units, stats, findings, geometry, numbers)
+    return Analysis(design, program, units, stats, findings, PlateResult(geometry, numbers))
 
 
-def plate_files(analysis: Analysis, requested: tuple[str, ...]) -> tuple[
-        Analysis, Verification, dict[str, dict[str, bytes]], dict[str, str]]:
-    """A plate's DXF, SVG and STL (``NAME.dxf``, ...), made and read back."""
-    from camfab.kinds.readback import named, verify_plate
+def plate_part(analysis: Analysis, label: str | None = None,
+               outline_note: Callable[[Plate], str] | None = None) -> Part:
+    """A plate cam's part: its drawing (see :func:`plate_drawing`), its CUT contours, and the
+    plate extruded to the design's ``thickness`` (none without one)."""
+    from camfab.export.part import Part
+    from camfab.geometry.plate import plate
 
-    check, single, _ = verify_plate(analysis, requested)
-    return analysis, check, named(analysis.design.name, single), {}
+    design, geom = analysis.design, analysis.geometry
+    assert geom is not None
+    contours = plate(design, geom)
+    thickness = design.cam.thickness
+    solid = (None if thickness is None else
+             plate_stack([geom.outline_points()], contours.holes, geom.tolerance, thickness))
+    return Part({design.name: plate_drawing(analysis, contours, label, outline_note)},
+                {design.name: (contours.cut, None)}, solid, made=contours)
+
+
+def plate_stack(outlines: list[Array], holes: Contours, tolerance: float,
+                thickness: float) -> Solid:
+    """Plates stacked along Z on one bore (mm): plate i is the outline *outlines[i]* with the
+    *holes*, from z = i·thickness to (i + 1)·thickness, the plates joined face to face into one
+    solid (a conjugate pair printed as one part; one outline, one plate)."""
+    from camfab.export.part import Extrusion, Union
+    from camfab.export.stl import hole_points
+
+    bores = hole_points(holes, tolerance)
+    return Union(tuple(Extrusion((outline, *bores), thickness, i * thickness)
+                       for i, outline in enumerate(outlines)))
+
+
+def plate_drawing(analysis: Analysis, plate: Plate, label: str | None = None,
+                  outline_note: Callable[[Plate], str] | None = None) -> Drawing:
+    """The drawing of *plate*: the pitch curve, base and prime circles, marks and notes, the
+    toolpath, and what is cut (on ``CUT``) last, on top where they coincide (a knife's pitch
+    curve is its profile); *label* names the cam in the note (by default its type: "disc cam"),
+    *outline_note* writes the note's line on the outline."""
+    from camfab.export.part import Drawing
+    from camfab.geometry.arcfit import fit_arcs
+
+    design, geom = analysis.design, analysis.geometry
+    assert geom is not None
+    scale = 1.0 / design.mm_per_unit
+    drawing = Drawing(design.units)
+    drawing.contour(fit_arcs(geom.pitch.xy, geom.tolerance), scale, "PITCH")
+    drawing.circle(geom.cam.base_radius * scale, "BASE")
+    if geom.cam.prime_radius != geom.cam.base_radius:
+        drawing.circle(geom.cam.prime_radius * scale, "PRIME")
+    _add_marks(drawing, analysis, scale, plate, label, outline_note)
+    if plate.toolpath is not None:
+        drawing.contours(plate.toolpath, scale, "TOOLPATH")
+    drawing.contours(plate.cut, scale, "CUT")
+    return drawing
+
+
+def _add_marks(drawing: Drawing, analysis: Analysis, scale: float, plate: Plate,
+               label: str | None,
+               outline_note: Callable[[Plate], str] | None) -> None:
+    import numpy as np
+
+    geom = analysis.geometry
+    assert geom is not None
+    rb = geom.cam.base_radius
+    size = 0.15 * rb * scale
+    drawing.line((-size, 0.0), (size, 0.0), "MARK")
+    drawing.line((0.0, -size), (0.0, size), "MARK")
+    # θ = 0: a tick on +Y just inside the base circle, where the follower sits
+    drawing.line((0.0, 0.6 * rb * scale), (0.0, 0.9 * rb * scale), "MARK")
+    design = analysis.design
+    unit = design.units
+    kind = label or f"{design.cam.type} cam"
+    lines = [f"{design.name}: {kind}, {design.cam.rotation}, base radius {rb * scale:.6g} "
+             f"{unit}",
+             outline_note(plate) if outline_note is not None else
+             f"outline of {len(plate.cut.profiles[0].vertices)} lines and arcs within "
+             f"{design.manufacturing.tolerance * scale:.3g} {unit}"]
+    if plate.kerf > 0.0:
+        lines.append(f"CUT offset for a kerf of {plate.kerf * scale:.4g} {unit}")
+    cutter = design.manufacturing.cutter_radius
+    if cutter > 0.0:
+        lines.append(f"TOOLPATH: centre of a cutter of radius {cutter * scale:.4g} {unit}")
+    height = max(rb * scale * 0.06, 1e-3)
+    # below everything drawn: the profile, the pitch curve and the toolpath around them
+    drawn = np.vstack((geom.outline_points(), geom.pitch.xy))
+    margin = max(cutter, plate.kerf)
+    left = (float(np.min(drawn[:, 0])) - margin) * scale
+    low = (float(np.min(drawn[:, 1])) - margin) * scale - 1.5 * height
+    for row, line in enumerate(lines, start=1):
+        drawing.text(line, height, (left, low - 1.6 * row * height))
+
+
+def plate_verify(analysis: Analysis, part: Part, files: PartFiles) -> tuple[Analysis,
+                                                                           Verification]:
+    """The plate's files read back: the follower run over the CUT outline of its DXF, the STL
+    checked (see :func:`camfab.kinds.readback.verify_plate`)."""
+    from camfab.kinds.readback import verify_plate
+
+    check, _ = verify_plate(analysis, part.made, files)
+    return analysis, check
 
 
 class Disc:
@@ -42,7 +226,11 @@ class Disc:
 
     drives_both_ways = False
     analyse = staticmethod(analyse_plate)
-    files = staticmethod(plate_files)
+    verify = staticmethod(plate_verify)
+
+    @staticmethod
+    def part(analysis: Analysis) -> Part:
+        return plate_part(analysis)
 
 
 KIND = Disc()

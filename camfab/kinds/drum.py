@@ -7,21 +7,123 @@ the exact walls.
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from camfab.kinds.readback import Verification, named
+from camfab.analysis.record import TABLE_COLUMNS, Analysis, CamResult, terse
+from camfab.kinds.readback import Verification
 
 if TYPE_CHECKING:
+    from camfab.analysis.drum_checks import DrumNumbers
     from camfab.analysis.findings import Finding
     from camfab.analysis.kinematics import MotionUnits, SegmentStats
-    from camfab.analysis.record import Analysis
+    from camfab.arrays import Array
     from camfab.design import Design
+    from camfab.export.part import Drawing, Part
+    from camfab.export.serialise import PartFiles
+    from camfab.geometry.drum import DrumDense
+    from camfab.geometry.profile import Profile
     from camfab.motion.program import MotionProgram
 
 #: Cam-angle step at which the roller is run through a drum's groove read back from the STL.
 DRUM_VERIFY_STEP = math.radians(0.5)
+
+
+@dataclass(frozen=True)
+class DrumResult(CamResult):
+    """A drum cam's groove walls over its depth (mm, dense in cam angle) and key numbers."""
+
+    drum: DrumDense
+    numbers: DrumNumbers
+    drawing_title = "The groove developed"
+
+    def kind_name(self, design: Design) -> str:
+        return "drum cam"
+
+    def report_geometry(self, analysis: Analysis) -> dict[str, Any]:
+        cam, fol = analysis.design.cam, analysis.design.follower
+        d, numbers = self.drum.drum, self.numbers
+        return {
+            "radius_mm": cam.radius, "length_mm": cam.length,
+            "groove_depth_mm": cam.groove_depth, "roller_radius_mm": fol.roller_radius,
+            "root_radius_mm": d.root,
+            "pitch_radius_mm": d.pitch,
+            "groove_width_mm": 2 * d.roller,
+            "groove_start_mm": d.start,
+            "bore_radius_mm": d.bore or None,
+            "root_pressure_angle_max_deg": numbers.root_pressure.value,
+            "root_pressure_angle_max_at_deg": numbers.root_pressure.at_deg,
+            "pitch_pressure_angle_max_deg": numbers.pitch_pressure.value,
+            "pitch_pressure_angle_max_at_deg": numbers.pitch_pressure.at_deg,
+            "outer_pressure_angle_max_deg": numbers.outer_pressure.value,
+            "outer_pressure_angle_max_at_deg": numbers.outer_pressure.at_deg,
+            "pressure_angle_limit_deg": math.degrees(analysis.design.pressure_angle_limit),
+            "developed_min_radius_of_curvature_mm": numbers.min_developed_radius.value,
+            "developed_min_radius_of_curvature_at_deg": numbers.min_developed_radius.at_deg,
+            "developed_min_radius_of_curvature_at_radius_mm":
+                numbers.min_developed_radius_at_mm,
+        }
+
+    def table_columns(self, theta: Array, motion: Array) -> list[tuple[str, Array]]:
+        """At the groove's floor, and the groove developed at its pitch radius."""
+        d = self.drum.drum
+        return list(zip(TABLE_COLUMNS, (np.degrees(d.pressure_angle(motion[1], d.root)),
+                                        d.developed_radius(motion[1], motion[2], d.pitch),
+                                        np.full(theta.size, np.nan)), strict=True))
+
+    def summary(self, analysis: Analysis) -> list[str]:
+        d, numbers = self.drum.drum, self.numbers
+        return [f"drum: radius {terse(d.radius)} mm, groove floor at {terse(d.root)} mm, "
+                f"{terse(2 * d.roller)} mm wide, roller centre at z = {terse(d.start)} mm at zero "
+                f"lift; pressure angle up to {terse(numbers.root_pressure.value)}° at the floor; "
+                f"developed groove's smallest radius of curvature "
+                f"{terse(numbers.min_developed_radius.value)} mm"]
+
+    def pressure_panels(self, analysis: Analysis, top: Any, bottom: Any) -> None:
+        """The pressure angle and the developed radius of curvature at the groove's floor and
+        at the surface, against the roller's radius."""
+        from camfab.export.figures import BAD, clip_radii, thin
+
+        dense = self.drum
+        theta, phi, rho = thin(np.degrees(dense.theta), np.degrees(dense.pressure_angle),
+                               dense.developed_radius)
+        for row, name in ((0, "floor"), (-1, "surface")):
+            top.plot(theta, phi[row], linewidth=1.0,
+                     label=f"φ at the {name} (r = {dense.radii[row]:.4g} mm)")
+            bottom.plot(theta, clip_radii(rho[row]), linewidth=1.0,
+                        label=f"developed ρ at the {name}")
+        bottom.axhline(dense.drum.roller, color=BAD, linewidth=0.8, linestyle="--",
+                       label=f"roller {dense.drum.roller:.4g} mm")
+        bottom.axhline(-dense.drum.roller, color=BAD, linewidth=0.8, linestyle="--")
+
+    def drawing(self, analysis: Analysis) -> str:
+        return _drawing_svg(analysis, self.drum)
+
+
+def _drawing_svg(analysis: Analysis, dense: DrumDense) -> str:
+    from camfab.export.chart import Figure
+    from camfab.export.figures import CUT, PITCH, REFERENCE
+    from camfab.geometry.drum_mesh import development
+
+    d = dense.drum
+    dev = development(d, analysis.program, 0.01)
+    fig = Figure(9.0, 3.6, "drawing", bottom=0.14)
+    [ax] = fig.subplots()
+    ax.set_aspect("equal")
+    ax.plot([0, dev.width, dev.width, 0, 0], [0, 0, dev.height, dev.height, 0],
+            color=REFERENCE, linewidth=0.7)
+    ax.plot(dev.lower[:, 0], dev.lower[:, 1], color=CUT, linewidth=1.2, label="groove walls")
+    ax.plot(dev.upper[:, 0], dev.upper[:, 1], color=CUT, linewidth=1.2)
+    ax.plot(dev.centre[:, 0], dev.centre[:, 1], color=PITCH, linewidth=0.8, linestyle="--",
+            label="roller axis")
+    ax.set_title(f"{analysis.design.name}: groove developed at the surface (r = {d.radius:.4g}"
+                 " mm), seen from outside", fontsize=9)
+    ax.set_xlabel("around the drum (mm)")
+    ax.set_ylabel("z (mm)")
+    ax.legend(fontsize=7, loc="upper right")
+    return fig.svg()
 
 
 class Drum:
@@ -34,34 +136,102 @@ class Drum:
                 stats: list[SegmentStats], findings: list[Finding]) -> Analysis:
         """The groove's dense walls, the drum's numbers and checks (before *findings*)."""
         from camfab.analysis.drum_checks import drum_findings, drum_numbers
-        from camfab.analysis.record import Analysis
         from camfab.geometry.drum import drum, drum_dense
 
         dense = drum_dense(drum(design), program)
         drum_nums = drum_numbers(dense, len(program.segments))
         findings = [*drum_findings(design, dense, drum_nums), *findings]
-        return Analysis(design, program, units, stats, findings, numbers=drum_nums, drum=dense)
+        return Analysis(design, program, units, stats, findings, DrumResult(dense, drum_nums))
 
     @staticmethod
-    def files(analysis: Analysis, requested: tuple[str, ...]) -> tuple[
-            Analysis, Verification, dict[str, dict[str, bytes]], dict[str, str]]:
-        check, single, withheld = drum_files(analysis)
-        return analysis, check, named(analysis.design.name, single), withheld
+    def part(analysis: Analysis) -> Part:
+        return drum_part(analysis)
+
+    @staticmethod
+    def verify(analysis: Analysis, part: Part, files: PartFiles) -> tuple[Analysis,
+                                                                          Verification]:
+        return analysis, drum_verify(analysis, part, files)
 
 
 KIND = Drum()
 
 
-def drum_files(analysis: Analysis) -> tuple[Verification, dict[str, bytes], dict[str, str]]:
-    """The drum's STL (unless its groove folds), developed DXF and SVG, read back: the roller
-    run through the groove of the STL between its wall rows, the developed walls measured."""
-    from camfab.export.dxf import read_cut_outline, render_development_dxf
-    from camfab.export.stl import check_stl, read_stl, render_drum_stl
-    from camfab.export.svg import render_svg
+def drum_part(analysis: Analysis) -> Part:
+    """The drum's part: the drum along Z from 0 to its length, the bore through and the groove
+    subtracted once as one closed tube (withheld when the groove folds over itself); the groove
+    developed at the surface as a drawing and a view (see :func:`_development_drawing`)."""
+    from camfab.export.part import Cylinder, Difference, Mesh, Part
+    from camfab.export.stl import circle_segments
     from camfab.geometry.arcfit import fit_arcs
-    from camfab.geometry.disc_geometry import LiftCheck
-    from camfab.geometry.drum_mesh import development, groove_lift, groove_tube, row_points
+    from camfab.geometry.drum_mesh import development, groove_tube
     from camfab.geometry.plate import Contours
+    from camfab.geometry.sampling import SAMPLING_SHARE
+
+    design, dense = analysis.design, analysis.drum
+    assert dense is not None
+    d, program = dense.drum, analysis.program
+    tolerance = SAMPLING_SHARE * design.manufacturing.tolerance
+    tube = groove_tube(d, program, tolerance)
+    withheld: dict[str, str] = {}
+    solid = None
+    if _folded(analysis):
+        withheld["stl"] = ("the groove folds over itself (see the groove check): there is no "
+                           "solid a roller could run in")
+    else:
+        body = Cylinder(d.length, d.radius, circle_segments(d.radius, tolerance))
+        if d.bore > 0.0:
+            body = Difference(body, Cylinder(d.length + 2.0, d.bore,
+                                             circle_segments(d.bore, tolerance), -1.0))
+        solid = Difference(body, Mesh(tube.vertices, tube.faces), cut_first=True)
+    # the developed groove: the walls at the surface, closed across the seam
+    dev = development(d, program, tolerance)
+    band = fit_arcs(np.vstack((dev.lower, dev.upper[::-1])), tolerance)
+    centre = fit_arcs(dev.centre, tolerance, closed=False)
+    drawing = _development_drawing(analysis, band, centre, (dev.width, dev.height))
+    return Part({design.name: drawing}, {design.name: (Contours((band,)), None)}, solid,
+                needs=("dxf", "stl"), withheld=withheld, made=tube)
+
+
+def _folded(analysis: Analysis) -> bool:
+    return any(f.id == "groove" and not f.ok for f in analysis.findings)
+
+
+def _development_drawing(analysis: Analysis, band: Profile, centre: Profile,
+                         size: tuple[float, float]) -> Drawing:
+    """The groove developed at the drum's surface: the groove between its walls as one closed
+    contour on ``CUT`` (cut open at the seam), the roller axis's track on ``PITCH`` (an open
+    chain), the developed surface's rectangle (*size*, mm) on ``MARK``, and a note."""
+    from camfab.export.part import Drawing
+
+    design = analysis.design
+    scale = 1.0 / design.mm_per_unit
+    drawing = Drawing(design.units)
+    width, height = size[0] * scale, size[1] * scale
+    corners = [(0.0, 0.0), (width, 0.0), (width, height), (0.0, height)]
+    for a, b in zip(corners, corners[1:] + corners[:1], strict=True):
+        drawing.line(a, b, "MARK")
+    drawing.contour(centre, scale, "PITCH", closed=False)
+    unit = design.units
+    text = [f"{design.name}: drum cam, {design.cam.rotation}, groove developed at the surface "
+            f"(radius {(design.cam.radius or 0.0) * scale:.6g} {unit}), seen from outside",
+            f"groove of {len(band.vertices)} lines and arcs within "
+            f"{design.manufacturing.tolerance * scale:.3g} {unit}"]
+    text_height = max(height * 0.03, 1e-3)
+    for row, line in enumerate(text, start=1):
+        drawing.text(line, text_height, (0.0, -1.6 * row * text_height))
+    drawing.contour(band, scale, "CUT")
+    return drawing
+
+
+def drum_verify(analysis: Analysis, part: Part, files: PartFiles) -> Verification:
+    """The roller run through the groove of the STL read back, between its wall rows (or, when
+    the groove folds, between the exact walls, to show how far the fold would throw it); the
+    STL checked closed, outward and of the solid's volume; the developed walls of the DXF
+    measured against the exact ones."""
+    from camfab.export.dxf import read_cut_outline
+    from camfab.export.stl import check_stl, read_stl
+    from camfab.geometry.disc_geometry import LiftCheck
+    from camfab.geometry.drum_mesh import development, groove_lift, row_points
     from camfab.geometry.sampling import SAMPLING_SHARE
     from camfab.motion.program import cycle_angles
 
@@ -69,26 +239,17 @@ def drum_files(analysis: Analysis) -> tuple[Verification, dict[str, bytes], dict
     assert dense is not None
     d, program = dense.drum, analysis.program
     tolerance = SAMPLING_SHARE * design.manufacturing.tolerance
-    files: dict[str, bytes] = {}
-    withheld: dict[str, str] = {}
-    folded = any(f.id == "groove" and not f.ok for f in analysis.findings)
-    if folded:
-        # the inner wall folds over itself: no solid a roller could run in. The roller is run
-        # between the exact walls as computed, to show how far the fold would throw it.
-        tube = groove_tube(d, program, tolerance)
-        vertices, faces = tube.vertices, tube.faces
+    folded = _folded(analysis)
+    if folded or files.stl is None:
+        vertices, faces = part.made.vertices, part.made.faces
         stl_check = None
-        withheld["stl"] = ("the groove folds over itself (see the groove check): there is no "
-                           "solid a roller could run in")
         source = "the exact walls (the groove folds: no STL)"
     else:
-        # the solid, read back
-        stl, volume, area = render_drum_stl(analysis)
-        mesh = read_stl(stl)
-        stl_check = check_stl(stl, volume, design.manufacturing.tolerance * area, mesh)
+        mesh = read_stl(files.stl.data)
+        stl_check = check_stl(files.stl.data, files.stl.volume_mm3,
+                              design.manufacturing.tolerance * files.stl.area_mm2, mesh)
         vertices = np.asarray(mesh.vertices, dtype=np.float64)
         faces = np.asarray(mesh.faces)
-        files["stl"] = stl
         source = (f"the roller run through the groove of {design.name}.stl read back (between "
                   f"its wall rows)")
     # the roller run between the wall vertices found, and points along the rows' edges between
@@ -100,16 +261,8 @@ def drum_files(analysis: Analysis) -> tuple[Verification, dict[str, bytes], dict
     found = np.isfinite(low) & np.isfinite(high)  # the roller meets both walls
     error = np.full(theta.size, np.inf)
     error[found] = 0.5 * (low[found] + high[found]) - centre_z[found]
-    # the developed groove: the walls at the surface, closed across the seam
-    dev = development(d, program, tolerance)
-    band = fit_arcs(np.vstack((dev.lower, dev.upper[::-1])), tolerance)
-    centre = fit_arcs(dev.centre, tolerance, closed=False)
-    dxf = render_development_dxf(analysis, band, centre, (dev.width, dev.height))
-    written = read_cut_outline(dxf, design.mm_per_unit)
+    written = read_cut_outline(files.files["dxf"][f"{design.name}.dxf"], design.mm_per_unit)
     exact = development(d, program, tolerance / 64.0)
     deviation = float(written.distance(np.vstack((exact.lower, exact.upper))).max())
-    files["dxf"] = dxf
-    files["svg"] = render_svg(analysis, Contours((band,)))
-    check = Verification(LiftCheck(theta, error, error), source, len(written.vertices),
-                         deviation, stl_check, exempt=folded)
-    return check, files, withheld
+    return Verification(LiftCheck(theta, error, error), source, len(written.vertices),
+                        deviation, stl_check, exempt=folded)

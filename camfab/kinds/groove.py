@@ -12,29 +12,43 @@ wall would cause (a wall δ off along the normal moves the follower δ/cos φ al
 
 from __future__ import annotations
 
-from dataclasses import replace
-from typing import TYPE_CHECKING
+import math
+from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from camfab.kinds.readback import Verification, named
+from camfab.analysis.record import terse
+from camfab.kinds.disc import PlateResult, analyse_plate
+from camfab.kinds.readback import Verification
 
 if TYPE_CHECKING:
     from camfab.analysis.findings import Finding
     from camfab.analysis.kinematics import MotionUnits, SegmentStats
     from camfab.analysis.record import Analysis
     from camfab.design import Design
+    from camfab.export.part import Drawing, Part, Solid
+    from camfab.export.serialise import PartFiles
+    from camfab.geometry.groove import GrooveWalls
     from camfab.geometry.plate import Contours
     from camfab.geometry.profile import Profile
     from camfab.motion.program import MotionProgram
 
 
-def verify_groove(analysis: Analysis, requested: tuple[str, ...]) -> tuple[
-        Verification, dict[str, dict[str, bytes]]]:
-    """Make the groove cam's files (DXF always: the verification reads it; STL and SVG when
-    *requested*), read them back and run the roller against both walls."""
-    from camfab.export.groove_dxf import read_groove_dxf, render_groove_dxf
-    from camfab.geometry.groove import wall_lift_check
+#: A wall-change tick runs this many groove half widths either side of the pitch curve: across
+#: both walls and a little beyond.
+TICK_REACH = 1.4
+
+#: How far the pocket's cutting body reaches above the face (mm), so the boolean never meets
+#: two coplanar faces.
+OVERSHOOT_MM = 1.0
+
+
+def groove_part(analysis: Analysis) -> Part:
+    """The groove cam's part: the plate cut out (its outer circle and holes on ``CUT``), the
+    groove's walls on ``POCKET``, the references, marks and notes; the plate with the groove
+    pocketed into its face as a solid."""
+    from camfab.export.part import Part
     from camfab.geometry.plate import Contours, holes, offset_holes
 
     design, geom, walls = analysis.design, analysis.geometry, analysis.groove
@@ -45,18 +59,145 @@ def verify_groove(analysis: Analysis, requested: tuple[str, ...]) -> tuple[
     if kerf > 0.0:
         beam = offset_holes(part_holes, kerf / 2.0, geom.tolerance)
         cut = Contours(beam.profiles, (walls.outer_radius + kerf / 2.0, *beam.circles))
-    files: dict[str, bytes] = {}
+    drawing = _drawing(analysis, cut, _toolpath(analysis, part_holes), kerf)
+    return Part({design.name: drawing},
+                {design.name: (cut, Contours((walls.inner, walls.outer)))},
+                _solid(analysis, part_holes), made=part_holes)
+
+
+def _drawing(analysis: Analysis, cut: Contours, toolpath: Contours | None,
+             kerf: float) -> Drawing:
+    """*cut* (mm) on ``CUT``, the walls on ``POCKET`` (milled, so never kerf-offset), the pitch
+    curve on ``PITCH``, base and prime circles, the *toolpath*, marks and notes."""
+    from camfab.export.part import Drawing
+    from camfab.geometry.arcfit import fit_arcs
+
+    design, geom, walls = analysis.design, analysis.geometry, analysis.groove
+    assert geom is not None and walls is not None
+    scale = 1.0 / design.mm_per_unit
+    drawing = Drawing(design.units)
+    drawing.contour(fit_arcs(geom.pitch.xy, geom.tolerance), scale, "PITCH")
+    drawing.circle(geom.cam.base_radius * scale, "BASE")
+    drawing.circle(geom.cam.prime_radius * scale, "PRIME")
+    _add_marks(drawing, analysis, scale)
+    _add_notes(drawing, analysis, scale, kerf)
+    if toolpath is not None:
+        drawing.contours(toolpath, scale, "TOOLPATH")
+    drawing.contour(walls.inner, scale, "POCKET")
+    drawing.contour(walls.outer, scale, "POCKET")
+    drawing.contours(cut, scale, "CUT")
+    return drawing
+
+
+def _add_marks(drawing: Drawing, analysis: Analysis, scale: float) -> None:
+    """The centre cross, the θ = 0 tick, and a tick across the groove wherever contact passes
+    from one wall to the other."""
+    from camfab.geometry.curves import perp
+
+    geom, walls = analysis.geometry, analysis.groove
+    assert geom is not None and walls is not None
+    rb = geom.cam.base_radius
+    size = 0.15 * rb * scale
+    drawing.line((-size, 0.0), (size, 0.0), "MARK")
+    drawing.line((0.0, -size), (0.0, size), "MARK")
+    drawing.line((0.0, 0.6 * rb * scale), (0.0, 0.9 * rb * scale), "MARK")
+    changes = walls.contact.changes
+    if changes.size:
+        pitch = geom.cam.pitch(changes, analysis.program.evaluate(changes))
+        reach = TICK_REACH * walls.radius * perp(pitch.tangent)
+        for a, b in zip((pitch.xy - reach) * scale, (pitch.xy + reach) * scale, strict=True):
+            drawing.line(tuple(a), tuple(b), "MARK")
+
+
+def _add_notes(drawing: Drawing, analysis: Analysis, scale: float, kerf: float) -> None:
+    design, geom, walls = analysis.design, analysis.geometry, analysis.groove
+    assert geom is not None and walls is not None
+    unit = design.units
+
+    def length(mm: float) -> str:
+        return f"{mm * scale:.6g} {unit}"
+
+    lines = [f"{design.name}: groove cam, {design.cam.rotation}, base radius "
+             f"{length(geom.cam.base_radius)} (the inner wall's smallest), plate radius "
+             f"{length(walls.outer_radius)}, thickness {length(walls.thickness)}",
+             f"POCKET: groove depth {length(walls.depth)} into the front face (floor at "
+             f"z = {length(walls.thickness - walls.depth)}), groove width {length(walls.width)} "
+             f"(roller radius {length(walls.roller_radius)}, clearance {length(walls.clearance)})",
+             f"groove walls of {len(walls.inner.vertices)} and {len(walls.outer.vertices)} lines "
+             f"and arcs within {design.manufacturing.tolerance * scale:.3g} {unit}; PITCH: the "
+             f"roller centre's path"]
+    changes = walls.contact.changes_deg
+    if changes:
+        lines.append("MARK ticks across the groove: contact changes walls at "
+                     + ", ".join(f"{a:.4g}°" for a in changes)
+                     + " (the roller reverses its spin)")
+    if kerf > 0.0:
+        lines.append(f"CUT offset for a kerf of {kerf * scale:.4g} {unit} (POCKET is milled: "
+                     "not offset)")
+    cutter = design.manufacturing.cutter_radius
+    if cutter > 0.0:
+        lines.append(f"TOOLPATH: centre of a cutter of radius {cutter * scale:.4g} {unit}")
+    height = max(walls.outer_radius * scale * 0.04, 1e-3)
+    left = -walls.outer_radius * scale
+    low = -(walls.outer_radius + max(cutter, kerf)) * scale - 1.5 * height
+    for row, line in enumerate(lines, start=1):
+        drawing.text(line, height, (left, low - 1.6 * row * height))
+
+
+def _solid(analysis: Analysis, holes: Contours) -> Solid:
+    """The plate with its *holes* (mm) through, the groove pocketed from the front face
+    (z = thickness) down to its floor: the band between the walls extruded from the floor to
+    above the face and subtracted once. The walls are the tolerance-sampled chains, the circles
+    cut into chords within the same tolerance."""
+    from camfab.export.part import Difference, Extrusion
+    from camfab.export.stl import hole_points
+    from camfab.geometry.sampling import arc_points
+
+    geom, walls = analysis.geometry, analysis.groove
+    assert geom is not None and walls is not None
+    tol = geom.tolerance
+    rim = arc_points(np.zeros(2), np.array([walls.outer_radius, 0.0]), 2 * math.pi, tol)[:-1]
+    plate = Extrusion((rim, *hole_points(holes, tol)), walls.thickness)
+    pocket = Extrusion((walls.outer_points, walls.inner_points), walls.depth + OVERSHOOT_MM,
+                       walls.thickness - walls.depth)
+    return Difference(plate, pocket)
+
+
+def groove_volume(analysis: Analysis, holes: Contours) -> tuple[float, float]:
+    """The part's volume (mm³) from the exact circles and holes and the walls' areas (their arcs
+    included), and the allowance for the tolerance along every contour through its height
+    (mm³)."""
+    from camfab.export.stl import chain_length, hole_points, holes_area
+
+    geom, walls = analysis.geometry, analysis.groove
+    assert geom is not None and walls is not None
+    t, d = walls.thickness, walls.depth
+    hole_area = holes_area(holes)
+    groove_area = walls.outer.area - walls.inner.area
+    volume = (math.pi * walls.outer_radius**2 - hole_area) * t - groove_area * d
+    chains = hole_points(holes, geom.tolerance)
+    through = 2 * math.pi * walls.outer_radius + sum(chain_length(c) for c in chains)
+    pocket = chain_length(walls.outer_points) + chain_length(walls.inner_points)
+    tolerance = analysis.design.manufacturing.tolerance
+    return volume, tolerance * (through * t + pocket * d)
+
+
+def groove_verify(analysis: Analysis, part: Part, files: PartFiles) -> tuple[Analysis,
+                                                                            Verification]:
+    """The groove cam's files read back: the DXF's ``POCKET`` walls as a reader sees them, the
+    roller run against both; the STL (when made) checked against the part's exact volume."""
+    from camfab.export.dxf import read_dxf
+    from camfab.geometry.groove import wall_lift_check
+
+    design, geom, walls = analysis.design, analysis.geometry, analysis.groove
+    assert geom is not None and walls is not None
     stl_check = None
-    if "stl" in requested:
-        from camfab.export.groove_stl import groove_volume, render_groove_stl
+    if files.stl is not None:
         from camfab.export.stl import check_stl
 
-        stl = render_groove_stl(analysis, part_holes)
-        files["stl"] = stl
-        stl_check = check_stl(stl, *groove_volume(analysis, part_holes))
-    dxf = render_groove_dxf(analysis, cut, _toolpath(analysis, part_holes), kerf)
-    files["dxf"] = dxf
-    drawing = read_groove_dxf(dxf, design.mm_per_unit)
+        stl_check = check_stl(files.stl.data, *groove_volume(analysis, part.made))
+    kerf = design.manufacturing.kerf
+    drawing = read_dxf(files.files["dxf"][f"{design.name}.dxf"], design.mm_per_unit)
     if len(drawing.pocket) < 2:
         raise ValueError(f"{design.name}.dxf: the POCKET layer holds {len(drawing.pocket)} "
                          "closed contours, not the groove's two walls")
@@ -68,16 +209,11 @@ def verify_groove(analysis: Analysis, requested: tuple[str, ...]) -> tuple[
         deviation = float(max(inner.distance(geom.dense.working.xy).max(),
                               outer.distance(walls.outer_dense.xy).max(),
                               abs(circle - (walls.outer_radius + kerf / 2.0))))
-    if "svg" in requested:
-        from camfab.export.svg import render_svg
-
-        files["svg"] = render_svg(analysis, cut, Contours((walls.inner, walls.outer)))
     source = (f"the POCKET walls read back from {design.name}.dxf: the roller (radius "
               f"{walls.radius:.6g} mm with half the clearance) pressed onto the inner wall, and "
               f"the roller centre's distance from each wall less that radius, over cos φ")
-    check = Verification(lift, source, len(inner.vertices) + len(outer.vertices), deviation,
-                         stl_check, exempt=walls.folded)
-    return check, named(design.name, files)
+    return analysis, Verification(lift, source, len(inner.vertices) + len(outer.vertices),
+                                  deviation, stl_check, exempt=walls.folded)
 
 
 def _toolpath(analysis: Analysis, part_holes: Contours) -> Contours | None:
@@ -115,6 +251,93 @@ def _toolpath(analysis: Analysis, part_holes: Contours) -> Contours | None:
                     (walls.outer_radius + cutter, *inside.circles))
 
 
+@dataclass(frozen=True)
+class GrooveResult(PlateResult):
+    """A plate cam's result (its working curve the inner wall) with the groove's walls."""
+
+    groove: GrooveWalls
+
+    def report_geometry(self, analysis: Analysis) -> dict[str, Any]:
+        return {**super().report_geometry(analysis), **self.groove.report_geometry()}
+
+    def dynamics_note(self, analysis: Analysis) -> str:
+        return ("a groove cam drives its follower both ways without a spring: the forces on its "
+                "walls are in geometry (max_inner_wall_force_N, ...)")
+
+    def summary(self, analysis: Analysis) -> list[str]:
+        walls = self.groove
+        changes = walls.contact.changes_deg
+        moves = ("contact passes to the other wall (the roller reverses its spin) at "
+                 + ", ".join(f"{a:.4g}°" for a in changes) if changes else
+                 "the follower never accelerates: no wall carries it")
+        return [*super().summary(analysis),
+                f"groove: {terse(walls.width)} mm wide (roller {terse(walls.roller_radius)} mm, "
+                f"clearance {terse(walls.clearance)} mm), {terse(walls.depth)} mm deep in a plate "
+                f"{terse(walls.thickness)} mm thick of radius {terse(walls.outer_radius)} mm; "
+                f"{moves}"]
+
+    def pressure_panels(self, analysis: Analysis, top: Any, bottom: Any) -> None:
+        from camfab.export.figures import BAD
+
+        super().pressure_panels(analysis, top, bottom)
+        # the outer wall folds where a concave ρ_p > −R
+        bottom.axhline(-self.geometry.cam.follower.radius, color=BAD, linewidth=0.8,
+                       linestyle="--")
+
+    def draw_plate(self, ax: Any, analysis: Analysis) -> None:
+        _draw_groove(ax, analysis, self.groove)
+
+    def contact_changes(self, report: dict[str, Any]) -> dict[str, Any]:
+        from camfab.export.report_html import num
+
+        return {"title": "Groove walls: where contact changes walls",
+                "intro": "The inner wall pushes the follower away from the cam centre where its "
+                         "acceleration is positive, the outer wall pulls it back where it is "
+                         "negative. At these cam angles the acceleration changes sign: contact "
+                         "crosses the clearance to the other wall, and the roller then rolls on "
+                         "that wall and reverses its spin.",
+                "still": "The follower never accelerates: no wall carries it.",
+                "rows": [[num(c["cam_angle_deg"]), f"{c['from']} wall", f"{c['onto']} wall"]
+                         for c in report["geometry"]["wall_changes"]]}
+
+
+def _draw_groove(ax: Any, analysis: Analysis, walls: GrooveWalls) -> None:
+    """A groove cam's plate: its outer circle, the groove shaded between its walls, where a
+    wall folds, and a tick across the groove wherever contact passes to the other wall."""
+    from camfab.export.figures import BAD, CHANGE, CUT, POCKET
+    from camfab.geometry.curves import perp
+    from camfab.geometry.groove import WALL_NAMES
+
+    geom = analysis.geometry
+    angle = np.linspace(0, 2 * math.pi, 361)
+    rim = walls.outer_radius * np.stack((np.cos(angle), np.sin(angle)), axis=-1)
+    ax.fill(rim[:, 0], rim[:, 1], color="#f4d6d2", zorder=0)
+    ax.plot(rim[:, 0], rim[:, 1], color=CUT, linewidth=1.2, label="plate outline (cut)")
+    outer, inner = (np.vstack((p, p[:1])) for p in (walls.outer_points, walls.inner_points))
+    ax.fill(outer[:, 0], outer[:, 1], color="#d9d9d9", zorder=0)
+    ax.fill(inner[:, 0], inner[:, 1], color="#f4d6d2", zorder=0)
+    ax.plot(outer[:, 0], outer[:, 1], color=POCKET, linewidth=1.0,
+            label=f"groove walls ({walls.depth:.4g} mm deep)")
+    ax.plot(inner[:, 0], inner[:, 1], color=POCKET, linewidth=1.0)
+    if walls.outer_folds.any():
+        xy = walls.outer_dense.xy[walls.outer_folds]
+        ax.plot(xy[:, 0], xy[:, 1], ".", color=BAD, markersize=2, label="outer wall folds")
+    changes = walls.contact.changes
+    if not changes.size:
+        return
+    pitch = geom.cam.pitch(changes, analysis.program.evaluate(changes))
+    across = 1.4 * walls.radius * perp(pitch.tangent)
+    for k, (centre, step) in enumerate(zip(pitch.xy, across, strict=True)):
+        ends = np.array([centre - step, centre + step])
+        ax.plot(ends[:, 0], ends[:, 1], color=CHANGE, linewidth=1.6,
+                label="contact changes walls" if k == 0 else None)
+        label = (f"{walls.contact.changes_deg[k]:.4g}°: onto the "
+                 f"{WALL_NAMES[int(walls.contact.onto[k])]} wall")
+        tip = centre - 2.0 * step * np.sign(float(np.dot(step, centre)) or 1.0)  # toward the centre
+        ax.text(float(tip[0]), float(tip[1]), label, fontsize=7, color=CHANGE)
+
+
+
 class Groove:
     """The face-groove cam (``cam.type: groove``): a disc cam's pitch curve, the roller held
     between the groove's two walls."""
@@ -126,15 +349,16 @@ class Groove:
                 stats: list[SegmentStats], findings: list[Finding]) -> Analysis:
         """A plate cam's analysis with the groove's walls and checks."""
         from camfab.analysis.groove_checks import with_groove
-        from camfab.kinds.disc import analyse_plate
 
-        return with_groove(analyse_plate(design, program, units, stats, findings))
+        analysis = analyse_plate(design, program, units, stats, findings)
+        walls, findings = with_groove(analysis)
+        plate = analysis.result
+        assert isinstance(plate, PlateResult)
+        return replace(analysis, findings=findings,
+                       result=GrooveResult(plate.geometry, plate.numbers, walls))
 
-    @staticmethod
-    def files(analysis: Analysis, requested: tuple[str, ...]) -> tuple[
-            Analysis, Verification, dict[str, dict[str, bytes]], dict[str, str]]:
-        check, files = verify_groove(analysis, requested)
-        return analysis, check, files, {}
+    part = staticmethod(groove_part)
+    verify = staticmethod(groove_verify)
 
 
 KIND = Groove()

@@ -6,17 +6,22 @@ measured; the STL is read back and checked closed, outward and of the plate's vo
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from camfab.kinds.readback import Verification, against_cut, named, read_part
+from camfab.analysis.record import TABLE_COLUMNS, Analysis, CamResult, terse
+from camfab.kinds.readback import Verification, against_cut, read_part
 
 if TYPE_CHECKING:
     from camfab.analysis.findings import Finding
     from camfab.analysis.kinematics import MotionUnits, SegmentStats
-    from camfab.analysis.record import Analysis
+    from camfab.analysis.linear_checks import LinearNumbers
+    from camfab.arrays import Array
     from camfab.design import Design
+    from camfab.export.part import Drawing, Part
+    from camfab.export.serialise import PartFiles
     from camfab.export.stl import StlCheck
     from camfab.geometry.linear import LinearGeometry
     from camfab.geometry.profile import Profile
@@ -52,44 +57,201 @@ def exact_working(geom: LinearGeometry, distance: float = 0.0) -> np.ndarray:
     return xy + distance * normal
 
 
-def verify_linear(analysis: Analysis,
-                  requested: tuple[str, ...]) -> tuple[Verification, dict[str, dict[str, bytes]]]:
-    """Make the DXF (always: it is what is verified), and the SVG and STL when *requested*, read
-    them back and run the follower over the CUT outline."""
-    from camfab.export.linear_files import render_linear_dxf, render_linear_stl
-    from camfab.geometry.linear import lift_check
+def linear_part(analysis: Analysis) -> Part:
+    """The linear cam's part: its drawing (see :func:`_drawing`), its CUT contour, and the plate
+    extruded from z = 0 to the design's ``thickness`` (none without one)."""
+    from camfab.export.part import Extrusion, Part
     from camfab.geometry.plate import Contours
 
     design, geom = analysis.design, analysis.linear
     assert geom is not None
     cut, pitch, toolpath = linear_contours(analysis)
-    files: dict[str, bytes] = {}
-    stl_check: StlCheck | None = None
-    if "stl" in requested:
-        from camfab.export.stl import check_stl
+    thickness = design.cam.thickness
+    solid = None if thickness is None else Extrusion((geom.outline_points(),), thickness)
+    return Part({design.name: _drawing(analysis, cut, pitch, toolpath)},
+                {design.name: (Contours((cut,)), None)}, solid)
 
-        made = render_linear_stl(analysis)
-        if made is not None:
-            files["stl"], volume, allowance = made
-            stl_check = check_stl(files["stl"], volume, allowance)
-    dxf = render_linear_dxf(analysis, cut, pitch, toolpath)
-    files["dxf"] = dxf
+
+def _drawing(analysis: Analysis, cut: Profile, pitch: Profile,
+             toolpath: Profile | None) -> Drawing:
+    """*cut* on ``CUT`` (mm, kerf-compensated: the working curve, the two square ends and the
+    base line), the open *pitch* chain on ``PITCH``, the *toolpath* (or None) on ``TOOLPATH``;
+    ``PRIME``: the trace point's height at zero lift (y = base_height); ``BASE``: the
+    profile's (y = base_height − roller radius, for a roller); ``MARK``: the base line y = 0
+    and ticks at travel 0 (the taller) and at the end of the stroke; ``NOTE``."""
+    from camfab.export.part import Drawing
+
+    design, geom = analysis.design, analysis.linear
+    assert geom is not None
+    scale = 1.0 / design.mm_per_unit
+    cam = geom.cam
+    drawing = Drawing(design.units)
+    left, right = -cam.overhang * scale, (cam.stroke + cam.overhang) * scale
+    # references first, what is cut last: drawn on top where they coincide (the base line)
+    drawing.contour(pitch, scale, "PITCH", closed=False)
+    drawing.line((left, cam.base_height * scale), (right, cam.base_height * scale), "PRIME")
+    if cam.radius > 0.0:
+        low = (cam.base_height - cam.radius) * scale
+        drawing.line((left, low), (right, low), "BASE")
+    drawing.line((left, 0.0), (right, 0.0), "MARK")
+    tick = 0.5 * (cam.base_height - cam.radius) * scale
+    drawing.line((0.0, 0.0), (0.0, tick), "MARK")  # travel 0
+    drawing.line((cam.stroke * scale, 0.0), (cam.stroke * scale, 0.5 * tick), "MARK")
+    unit = design.units
+    lines = [f"{design.name}: linear cam, stroke {cam.stroke * scale:.6g} {unit}, base height "
+             f"{cam.base_height * scale:.6g} {unit}; moves toward -X, travel 0 at x = 0",
+             f"outline of {len(cut.vertices)} lines and arcs within "
+             f"{design.manufacturing.tolerance * scale:.3g} {unit}"]
     kerf = design.manufacturing.kerf
-    written, part, source = read_part(dxf, design.mm_per_unit, kerf, geom.tolerance,
-                                      f"{design.name}.dxf")
-    lift = lift_check(geom.cam, analysis.program, part)
+    if kerf > 0.0:
+        lines.append(f"CUT offset for a kerf of {kerf * scale:.4g} {unit}")
+    cutter = design.manufacturing.cutter_radius
+    if toolpath is not None:
+        drawing.contour(toolpath, scale, "TOOLPATH")
+        lines.append(f"TOOLPATH: centre of a cutter of radius {cutter * scale:.4g} {unit}")
+    height = max(0.008 * geom.plate_length * scale, 1e-3)
+    below = -(max(cutter, kerf / 2.0) * scale + 1.5 * height)
+    for row, line in enumerate(lines):
+        drawing.text(line, height, (left, below - 1.6 * row * height))
+    drawing.contour(cut, scale, "CUT")
+    return drawing
+
+
+def linear_verify(analysis: Analysis, part: Part, files: PartFiles) -> tuple[Analysis,
+                                                                            Verification]:
+    """The DXF's CUT outline read back (the kerf taken off) and the follower run over it along
+    the whole stroke; the STL (when made) checked against the plate's exact volume: its area ×
+    thickness, within the tolerance along the outline through the thickness."""
+    from camfab.geometry.linear import lift_check
+
+    design, geom = analysis.design, analysis.linear
+    assert geom is not None
+    stl_check: StlCheck | None = None
+    if files.stl is not None and design.cam.thickness is not None:
+        from camfab.export.stl import chain_length, check_stl
+
+        thickness = design.cam.thickness
+        allowance = (design.manufacturing.tolerance * chain_length(geom.outline_points())
+                     * thickness)
+        stl_check = check_stl(files.stl.data, geom.outline.area * thickness, allowance)
+    kerf = design.manufacturing.kerf
+    written, part_read, source = read_part(files.files["dxf"][f"{design.name}.dxf"],
+                                           design.mm_per_unit, kerf, geom.tolerance,
+                                           f"{design.name}.dxf")
+    lift = lift_check(geom.cam, analysis.program, part_read)
     deviation = None
     if not geom.undercut:
         deviation = float(written.distance(exact_working(geom, kerf / 2.0)).max())
-    if "svg" in requested:
-        from camfab.export.svg import render_svg
-
-        files["svg"] = render_svg(analysis, Contours((cut,)))
     cut_error = (against_cut(lift, geom.lift, design.manufacturing.tolerance)
                  if geom.undercut else None)
-    check = Verification(lift, source, len(written.vertices), deviation, stl_check,
-                         exempt=geom.undercut, cut_error=cut_error)
-    return check, named(design.name, files)
+    return analysis, Verification(lift, source, len(written.vertices), deviation, stl_check,
+                                  exempt=geom.undercut, cut_error=cut_error)
+
+
+@dataclass(frozen=True)
+class LinearResult(CamResult):
+    """A linear cam's exact curves (mm, over one stroke) and key numbers."""
+
+    linear: LinearGeometry
+    numbers: LinearNumbers
+    drawing_title = "The plate at travel 0"
+
+    def motion_words(self, design: Design) -> str:
+        return "moving toward −X"
+
+    def report_geometry(self, analysis: Analysis) -> dict[str, Any]:
+        from camfab.analysis.linear_checks import linear_report_geometry
+
+        return linear_report_geometry(analysis.design, self.linear, self.numbers)
+
+    def table_leading(self, theta: Array) -> list[tuple[str, Array]]:
+        """The travel of the plate (a stroke is 360°)."""
+        return [("cam_travel_mm", self.linear.cam.travel(theta))]
+
+    def table_columns(self, theta: Array, motion: Array) -> list[tuple[str, Array]]:
+        cam = self.linear.cam
+        x = cam.travel(theta)
+        return list(zip(TABLE_COLUMNS, (np.degrees(cam.pressure_angle(motion)),
+                                        cam.pitch(x, motion).radius,
+                                        cam.working(x, motion).radius), strict=True))
+
+    def summary(self, analysis: Analysis) -> list[str]:
+        linear, lin, rpm = self.linear, self.linear.cam, analysis.design.cam.speed_rpm
+        pace = "" if rpm is None else f", traversing at {terse(lin.stroke * rpm / 60.0)} mm/s"
+        return [f"plate: stroke {terse(lin.stroke)} mm{pace}, base height "
+                f"{terse(lin.base_height)} mm, {terse(linear.plate_length)} mm long; pitch "
+                f"curve's smallest convex radius {terse(self.numbers.pitch_min_convex.value)} mm; "
+                f"outline of {len(linear.outline.vertices)} lines and arcs; the follower run over "
+                f"it strays {linear.lift.max_mm:.2g} mm from the design"]
+
+    def pressure_panels(self, analysis: Analysis, top: Any, bottom: Any) -> None:
+        _pressure_panels(self.linear, top, bottom)
+
+    def drawing(self, analysis: Analysis) -> str:
+        return _drawing_svg(analysis, self.linear)
+
+
+def _drawing_svg(analysis: Analysis, geom: LinearGeometry) -> str:
+    """The plate at travel 0 with its follower over x = 0, the pitch curve, the zero-lift lines,
+    and where the checks fail marked on the profile."""
+    from camfab.export.chart import Figure
+    from camfab.export.figures import CUT, FOLLOWER, PITCH, REFERENCE, mark_failures
+
+    cam = geom.cam
+    outline = geom.outline_points()
+    width = geom.plate_length
+    height = float(outline[:, 1].max()) + 2.5 * cam.radius + 0.25 * cam.base_height
+    size = min(10.0, max(6.0, 0.04 * width))
+    fig = Figure(size, max(2.6, size * (height + 0.3 * cam.base_height) / width * 1.15),
+                 "drawing", left=0.07, right=0.98, bottom=0.2, top=0.88)
+    [ax] = fig.subplots()
+    ax.set_aspect("equal")
+    ring = np.vstack((outline, outline[:1]))
+    ax.fill(ring[:, 0], ring[:, 1], color="#f4d6d2", zorder=0)
+    ax.plot(ring[:, 0], ring[:, 1], color=CUT, linewidth=1.2, label="plate outline")
+    if cam.radius > 0.0:
+        ax.plot(geom.pitch.xy[:, 0], geom.pitch.xy[:, 1], color=PITCH, linewidth=0.8,
+                linestyle="--", label="pitch curve")
+    left, right = -cam.overhang, cam.stroke + cam.overhang
+    ax.plot([left, right], [cam.base_height] * 2, color=REFERENCE, linewidth=0.7,
+            linestyle="-.", label="trace point at zero lift")
+    mark_failures(ax, analysis, geom)
+    trace = cam.base_height + float(analysis.program.evaluate(np.zeros(1))[0, 0])
+    if cam.radius > 0.0:
+        angle = np.linspace(0.0, 2.0 * np.pi, 181)
+        ax.plot(cam.radius * np.cos(angle), trace + cam.radius * np.sin(angle), color=FOLLOWER,
+                linewidth=1.5, label="follower at travel 0")
+    stem = trace + cam.radius + 0.6 * cam.base_height
+    ax.plot([0.0, 0.0], [trace, stem], color=FOLLOWER, linewidth=1.5,
+            label=None if cam.radius > 0.0 else "knife at travel 0")
+    ax.plot([0.0], [trace], ".", color=FOLLOWER)
+    ax.arrow((0.4 * width - cam.overhang, -0.12 * cam.base_height),
+             (0.2 * width - cam.overhang, -0.12 * cam.base_height), color=REFERENCE)
+    ax.text(0.3 * width - cam.overhang, -0.2 * cam.base_height, "the plate moves toward −X",
+            ha="center", va="top", fontsize=7, color="#555555")
+    ax.set_ylim(-0.45 * cam.base_height, height)
+    ax.legend(fontsize=7, loc="upper right", ncol=2)
+    ax.set_title(f"{analysis.design.name} at travel 0 (stroke {cam.stroke:.4g} mm)", fontsize=9)
+    ax.set_xlabel("x (mm)")
+    ax.set_ylabel("y (mm)")
+    return fig.svg()
+
+
+def _pressure_panels(geom: LinearGeometry, top: Any, bottom: Any) -> None:
+    """The signed pressure angle, and the pitch and profile radii of curvature, over the cycle."""
+    from camfab.export.figures import BAD, CUT, PITCH, clip_radii
+
+    dense = geom.dense
+    theta = np.degrees(dense.theta)[::10]
+    top.plot(theta, np.degrees(dense.pressure_angle)[::10], color=PITCH, linewidth=1.0,
+             label="pressure angle φ = atan(ds/dx)")
+    bottom.plot(theta, clip_radii(dense.pitch.radius[::10]), color=PITCH, linewidth=1.0,
+                label="pitch curve ρ")
+    bottom.plot(theta, clip_radii(dense.working.radius[::10]), color=CUT, linewidth=1.0,
+                label="profile ρ")
+    if geom.cam.radius > 0.0:
+        bottom.axhline(geom.cam.radius, color=BAD, linewidth=0.8, linestyle="--",
+                       label=f"roller radius {geom.cam.radius:.4g} mm")
 
 
 class Linear:
@@ -101,15 +263,17 @@ class Linear:
     def analyse(design: Design, program: MotionProgram, units: MotionUnits,
                 stats: list[SegmentStats], findings: list[Finding]) -> Analysis:
         """The plate's exact curves, numbers and checks (before *findings*)."""
-        from camfab.analysis.linear_checks import analyse_linear
+        from camfab.analysis.linear_checks import linear_findings, linear_numbers
+        from camfab.geometry.linear import linear_geometry
 
-        return analyse_linear(design, program, units, stats, findings)
+        geom = linear_geometry(design)
+        numbers = linear_numbers(geom, len(program.segments))
+        return Analysis(design, program, units, stats,
+                        [*linear_findings(design, geom, numbers), *findings],
+                        LinearResult(geom, numbers))
 
-    @staticmethod
-    def files(analysis: Analysis, requested: tuple[str, ...]) -> tuple[
-            Analysis, Verification, dict[str, dict[str, bytes]], dict[str, str]]:
-        check, files = verify_linear(analysis, requested)
-        return analysis, check, files, {}
+    part = staticmethod(linear_part)
+    verify = staticmethod(linear_verify)
 
 
 KIND = Linear()

@@ -11,11 +11,14 @@ back is run under both faces (or rollers) of the yoke.
 from __future__ import annotations
 
 import math
-from dataclasses import replace
-from typing import TYPE_CHECKING
+from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
 
 from camfab.geometry.conjugate import hold, made_geometry, to_made_frame
 from camfab.geometry.disc_geometry import VERIFY_STEP, LiftCheck
+from camfab.kinds.disc import PlateResult, analyse_plate
 from camfab.kinds.readback import Verification, against_cut, read_back, verify_plate
 from camfab.motion.program import cycle_angles
 
@@ -23,68 +26,93 @@ if TYPE_CHECKING:
     from camfab.analysis.findings import Finding
     from camfab.analysis.kinematics import MotionUnits, SegmentStats
     from camfab.analysis.record import Analysis
+    from camfab.arrays import Array
     from camfab.design import Design
+    from camfab.export.part import Part
+    from camfab.export.serialise import PartFiles
+    from camfab.geometry.conjugate import Partner
     from camfab.motion.program import MotionProgram
 
 
-def verify_partner(analysis: Analysis, requested: tuple[str, ...]) -> tuple[
-        Verification, dict[str, dict[str, bytes]]]:
-    """The files of a conjugate or constant-breadth cam by output name and file name, and what
-    reading them back found (with the hold of the outlines as written)."""
+def pair_part(analysis: Analysis) -> Part:
+    """A constant-breadth cam's part is a disc cam's; a conjugate pair's is a drawing and a
+    view per plate (``NAME-a``, ``NAME-b``: cam b drawn as it is made, half a turn or mirrored
+    from the frame it is computed in) and one solid of both plates stacked on the bore."""
+    from camfab.export.part import Part
+    from camfab.geometry.plate import plate
+    from camfab.kinds.disc import plate_drawing, plate_part, plate_stack
+
+    design, partner, geom_a = analysis.design, analysis.partner, analysis.geometry
+    assert partner is not None and geom_a is not None
+    if partner.geometry is None:  # constant breadth: one cam, both sides of the yoke
+        return plate_part(analysis)
+    name = design.name
+    made_b = made_geometry(partner.geometry, partner.mirror)
+    analysis_b = replace(analysis, result=replace(analysis.result, geometry=made_b))
+    plates = {"a": plate(design, geom_a), "b": plate(design, made_b)}
+    where = ("arm a, above the line of centres", "arm b, below it") if partner.mirror else (
+        "roller a, above the shaft", "roller b, below the shaft")
+    drawings = {f"{name}-a": plate_drawing(analysis, plates["a"], f"conjugate cam a ({where[0]})"),
+                f"{name}-b": plate_drawing(analysis_b, plates["b"],
+                                           f"conjugate cam b ({where[1]}; same keyway)")}
+    views = {f"{name}-{k}": (plates[k].cut, None) for k in ("a", "b")}
+    thickness = design.cam.thickness
+    solid = (None if thickness is None else
+             plate_stack([geom_a.outline_points(), made_b.outline_points()], plates["a"].holes,
+                         geom_a.tolerance, thickness))
+    return Part(drawings, views, solid, made=(plates, made_b))
+
+
+def pair_verify(analysis: Analysis, part: Part, files: PartFiles) -> tuple[Analysis,
+                                                                          Verification]:
+    """Each plate's CUT outline read back and its own roller run over it; then both rollers
+    run over the outlines together, to measure whether they hold the follower. The hold of
+    the cams as written replaces that of the cams as sampled."""
+    from camfab.analysis.partner_checks import read_back_hold
+
     partner, geom = analysis.partner, analysis.geometry
     assert partner is not None and geom is not None
-    name = analysis.design.name
-    theta = cycle_angles(VERIFY_STEP)
-    if partner.geometry is None:  # constant breadth: one cam, both sides of the yoke
-        check, single, back = verify_plate(analysis, requested)
-        held = hold(theta, partner.spacing, (back.part, geom.cam), (back.part, geom.cam),
-                    math.pi)
-        files = {output: {f"{name}.{output}": data} for output, data in single.items()}
-        return replace(check, hold=held), files
-    return _verify_pair(analysis, requested)
+    if partner.geometry is None:  # constant breadth: its outline under both sides of the yoke
+        check, back = verify_plate(analysis, part.made, files)
+        held = hold(cycle_angles(VERIFY_STEP), partner.spacing, (back.part, geom.cam),
+                    (back.part, geom.cam), math.pi)
+        check = replace(check, hold=held)
+    else:
+        check = _verify_pair(analysis, part, files)
+    if check.hold is not None:
+        findings = [read_back_hold(analysis, check.hold) if f.id == "hold" else f
+                    for f in analysis.findings]
+        analysis = replace(analysis, findings=findings,
+                           result=replace(analysis.result, partner=replace(partner,
+                                                                           hold=check.hold)))
+    return analysis, check
 
 
-def _verify_pair(analysis: Analysis, requested: tuple[str, ...]) -> tuple[
-        Verification, dict[str, dict[str, bytes]]]:
-    from camfab.export.dxf import render_dxf
-    from camfab.geometry.plate import plate
+def _verify_pair(analysis: Analysis, part: Part, files: PartFiles) -> Verification:
+    from camfab.kinds.readback import expected_volume
 
     design, partner, geom_a = analysis.design, analysis.partner, analysis.geometry
     assert partner is not None and geom_a is not None
     geom_b, program_b = partner.geometry, partner.program
     assert geom_b is not None and program_b is not None
     name = design.name
-    # cam b as it is made: half a turn (or mirrored) from the frame it was computed in
-    mirror = partner.mirror
-    made_b = made_geometry(geom_b, mirror)
-    analysis_b = replace(analysis, geometry=made_b)
-    plates = {"a": plate(design, geom_a), "b": plate(design, made_b)}
-    where = ("arm a, above the line of centres", "arm b, below it") if mirror else (
-        "roller a, above the shaft", "roller b, below the shaft")
-    dxf = {"a": render_dxf(analysis, plates["a"], f"conjugate cam a ({where[0]})"),
-           "b": render_dxf(analysis_b, plates["b"],
-                           f"conjugate cam b ({where[1]}; same keyway)")}
+    plates, made_b = part.made
+    dxf = files.files["dxf"]
     kerf = plates["a"].kerf
-    back_a = read_back(design, geom_a, analysis.program, dxf["a"], kerf, f"{name}-a.dxf")
-    back_b = read_back(design, geom_b, program_b, dxf["b"], kerf, f"{name}-b.dxf",
-                       lambda profile: to_made_frame(profile, mirror))
-    files: dict[str, dict[str, bytes]] = {"dxf": {f"{name}-{k}.dxf": v for k, v in dxf.items()}}
-    if "svg" in requested:
-        from camfab.export.svg import render_svg
-
-        files["svg"] = {f"{name}-a.svg": render_svg(analysis, plates["a"].cut),
-                        f"{name}-b.svg": render_svg(analysis_b, plates["b"].cut)}
+    back_a = read_back(design, geom_a, analysis.program, dxf[f"{name}-a.dxf"], kerf,
+                       f"{name}-a.dxf")
+    back_b = read_back(design, geom_b, program_b, dxf[f"{name}-b.dxf"], kerf, f"{name}-b.dxf",
+                       lambda profile: to_made_frame(profile, partner.mirror))
     stl_check = None
-    thickness = design.cam.thickness
-    if "stl" in requested and thickness is not None:
-        from camfab.export.stl import check_stl, expected_volume, render_stack_stl
+    if files.stl is not None:
+        from camfab.export.stl import check_stl
 
-        stl = render_stack_stl([geom_a.outline_points(), made_b.outline_points()],
-                               plates["a"].holes, geom_a.tolerance, thickness)
-        files["stl"] = {f"{name}.stl": stl}
         volumes = [expected_volume(analysis, plates["a"]),
-                   expected_volume(analysis_b, plates["b"])]
-        stl_check = check_stl(stl, sum(v[0] for v in volumes), sum(v[1] for v in volumes))
+                   expected_volume(replace(analysis, result=replace(analysis.result,
+                                                                             geometry=made_b)),
+                                   plates["b"])]
+        stl_check = check_stl(files.stl.data, sum(v[0] for v in volumes),
+                              sum(v[1] for v in volumes))
     held = hold(back_a.lift.theta, partner.spacing, (back_a.part, geom_a.cam),
                 (back_b.part, geom_b.cam))
     worse = back_a.lift if back_a.lift.max_mm >= back_b.lift.max_mm else back_b.lift
@@ -101,7 +129,100 @@ def _verify_pair(analysis: Analysis, requested: tuple[str, ...]) -> tuple[
                         key=lambda c: c.max_mm)
     return Verification(lift, source, back_a.entities + back_b.entities, deviation, stl_check,
                         exempt=geom_a.undercut or geom_b.undercut, hold=held,
-                        cut_error=cut_error), files
+                        cut_error=cut_error)
+
+
+@dataclass(frozen=True)
+class PairResult(PlateResult):
+    """A plate cam's result with what holds its follower on the other side: a conjugate pair's
+    cam b, or a constant-breadth cam's own outline half a turn on."""
+
+    partner: Partner
+
+    def report_geometry(self, analysis: Analysis) -> dict[str, Any]:
+        return {**super().report_geometry(analysis), **self.partner.report_geometry()}
+
+    def dynamics_note(self, analysis: Analysis) -> str:
+        return (f"a {analysis.design.cam.type} cam drives its follower both ways without a "
+                "spring: the forces on either side are in geometry (load_changes, "
+                "max_..._force_N)")
+
+    def table_columns(self, theta: Array, motion: Array) -> list[tuple[str, Array]]:
+
+        columns = super().table_columns(theta, motion)
+        partner = self.partner
+        if partner.geometry is not None and partner.program is not None:
+            cam_b, s_b = partner.geometry.cam, partner.program.evaluate(theta)
+            columns += [("pressure_angle_b_deg", np.degrees(cam_b.pressure_angle(theta, s_b))),
+                        ("pitch_b_radius_of_curvature_mm", cam_b.pitch(theta, s_b).radius),
+                        ("profile_b_radius_of_curvature_mm", cam_b.working(theta, s_b).radius)]
+        return columns
+
+    def summary(self, analysis: Analysis) -> list[str]:
+        lines = super().summary(analysis)
+        partner = self.partner
+        if partner.contact is not None:
+            sides = partner.sides
+            held = partner.hold
+            passes = ", ".join(f"{math.degrees(float(a)):.4g}° (onto {sides[int(to)]})"
+                               for a, to in zip(partner.contact.changes, partner.contact.onto,
+                                                strict=True)) or "nowhere"
+            lines.append(f"held on both sides: gap up to {held.max_gap:.2g} mm, interference "
+                         f"up to {held.max_interference:.2g} mm; the load passes sides at "
+                         f"{passes}")
+        return lines
+
+    def draw_other_side(self, ax: Any, analysis: Analysis) -> None:
+        _draw_partner(ax, analysis, self.partner)
+
+    def contact_changes(self, report: dict[str, Any]) -> dict[str, Any] | None:
+        from camfab.export.report_html import num
+
+        geometry = report["geometry"]
+        if "load_changes" not in geometry:
+            return None
+        return {"title": "Where the load passes from one side to the other",
+                "intro": "The follower is pushed away from the cam centre where its acceleration "
+                         "is positive and pulled back where it is negative; at these cam angles "
+                         "the other side takes the load (any play between the two shows here).",
+                "still": "The follower never accelerates: neither side carries it.",
+                "rows": [[num(c["cam_angle_deg"]), c["from"], c["onto"]]
+                         for c in geometry["load_changes"]]}
+
+
+def _draw_partner(ax: Any, analysis: Analysis, partner: Partner) -> None:
+    """What holds the follower on the other side, at θ = 0: a conjugate pair's cam b (turned
+    into the frame it is made in) with its roller, or a yoke's other face or roller."""
+    from camfab.export.figures import CUT, FOLLOWER
+
+    geom = analysis.geometry
+    cam = geom.cam
+    fol = cam.follower
+    trace = cam.trace(analysis.program.evaluate(np.zeros(1)))[0][0]
+    other = trace - np.array([0.0, partner.spacing])
+    if partner.geometry is not None and partner.program is not None:
+        from camfab.geometry.conjugate import half_turned, mirrored
+
+        cam_b = partner.geometry.cam
+        other = cam_b.trace(partner.program.evaluate(np.zeros(1)))[0][0]
+        move = mirrored if partner.mirror else half_turned
+        other = move(other)
+        ring = move(partner.geometry.outline_points())
+        ring = np.vstack((ring, ring[:1]))
+        ax.plot(ring[:, 0], ring[:, 1], color=CUT, linewidth=1.0, linestyle="--",
+                label="cam b (behind cam a)")
+    if fol.flat:
+        half = 0.6 * cam.base_radius
+        ax.plot([other[0] - half, other[0] + half], [other[1], other[1]], color=FOLLOWER,
+                linewidth=2.0, label="the yoke's other face")
+        return
+    angle = np.linspace(0, 2 * math.pi, 181)
+    ax.plot(other[0] + fol.radius * np.cos(angle), other[1] + fol.radius * np.sin(angle),
+            color=FOLLOWER, linewidth=1.5, linestyle="--", label="second roller")
+    joint = cam.pivot if fol.oscillating else trace
+    ax.plot([other[0], joint[0]], [other[1], joint[1]], color=FOLLOWER, linewidth=0.8,
+            linestyle=":")
+
 
 
 class Pair:
@@ -116,24 +237,16 @@ class Pair:
         """A plate cam's analysis with the second contact, the second cam's checks and the
         ``hold`` check."""
         from camfab.analysis.partner_checks import with_partner
-        from camfab.kinds.disc import analyse_plate
 
-        return with_partner(analyse_plate(design, program, units, stats, findings))
+        analysis = analyse_plate(design, program, units, stats, findings)
+        partner, findings = with_partner(analysis)
+        plate = analysis.result
+        assert isinstance(plate, PlateResult)
+        return replace(analysis, findings=findings,
+                       result=PairResult(plate.geometry, plate.numbers, partner))
 
-    @staticmethod
-    def files(analysis: Analysis, requested: tuple[str, ...]) -> tuple[
-            Analysis, Verification, dict[str, dict[str, bytes]], dict[str, str]]:
-        """The files, read back; the hold of the cams as written replaces that of the cams as
-        sampled."""
-        from camfab.analysis.partner_checks import read_back_hold
-
-        check, files = verify_partner(analysis, requested)
-        if check.hold is not None and analysis.partner is not None:
-            findings = [read_back_hold(analysis, check.hold) if f.id == "hold" else f
-                        for f in analysis.findings]
-            analysis = replace(analysis, findings=findings,
-                               partner=replace(analysis.partner, hold=check.hold))
-        return analysis, check, files, {}
+    part = staticmethod(pair_part)
+    verify = staticmethod(pair_verify)
 
 
 KIND = Pair()

@@ -22,9 +22,11 @@ from camfab.geometry.disc_geometry import LiftCheck
 if TYPE_CHECKING:
     from camfab.analysis.record import Analysis
     from camfab.design import Design
+    from camfab.export.serialise import PartFiles
     from camfab.export.stl import StlCheck
     from camfab.geometry.conjugate import Hold
     from camfab.geometry.disc_geometry import DiscGeometry
+    from camfab.geometry.plate import Plate
     from camfab.geometry.profile import Profile
     from camfab.motion.program import MotionProgram
 
@@ -77,45 +79,40 @@ class Exports:
     withheld: dict[str, str]
 
 
-def named(name: str, files: dict[str, bytes]) -> dict[str, dict[str, bytes]]:
-    """One file per output: ``NAME.dxf`` and so on."""
-    return {output: {f"{name}.{output}": data} for output, data in files.items()}
-
-
-def verify_plate(analysis: Analysis, requested: tuple[str, ...]) -> tuple[Verification,
-                                                                         dict[str, bytes],
-                                                                         ReadBack]:
-    """A plate cam's files (``dxf``, ``svg``, ``stl`` by output name), read back: what was
-    found, the files, and the outline read back from the DXF."""
-    from camfab.export.dxf import render_dxf
-    from camfab.geometry.plate import plate
-
+def verify_plate(analysis: Analysis, contours: Plate,
+                 files: PartFiles) -> tuple[Verification, ReadBack]:
+    """A plate cam's files read back: the follower run over the CUT outline of ``NAME.dxf``,
+    the STL (when made) checked against the plate's exact volume; what was found, and the
+    outline read back."""
     design, geom = analysis.design, analysis.geometry
     assert geom is not None
-    contours = plate(design, geom)
-    files: dict[str, bytes] = {}
     stl_check = None
-    # the solid, read back
-    if "stl" in requested:
-        from camfab.export.stl import check_stl, expected_volume, render_stl
+    if files.stl is not None:
+        from camfab.export.stl import check_stl
 
-        stl = render_stl(analysis, contours)
-        if stl is not None:
-            files["stl"] = stl
-            stl_check = check_stl(stl, *expected_volume(analysis, contours))
-    dxf = render_dxf(analysis, contours)
-    files["dxf"] = dxf
+        stl_check = check_stl(files.stl.data, *expected_volume(analysis, contours))
+    dxf = files.files["dxf"][f"{design.name}.dxf"]
     back = read_back(design, geom, analysis.program, dxf, contours.kerf, f"{design.name}.dxf")
-    if "svg" in requested:
-        from camfab.export.svg import render_svg
-
-        files["svg"] = render_svg(analysis, contours.cut)
     return Verification(back.lift, back.source, back.entities, back.deviation, stl_check,
                         exempt=geom.undercut,
                         cut_error=against_cut(back.lift, geom.lift,
                                               design.manufacturing.tolerance)
                         if geom.undercut else None
-                        ), files, back
+                        ), back
+
+
+def expected_volume(analysis: Analysis, plate: Plate) -> tuple[float, float]:
+    """The plate's volume (mm³) from its exact hole areas and its outline's area, and the
+    allowance for the tolerance along every contour (mm³)."""
+    from camfab.export.stl import chain_length, hole_points, holes_area
+
+    geom, cam = analysis.geometry, analysis.design.cam
+    assert geom is not None and cam.thickness is not None
+    area = geom.profile.area - holes_area(plate.holes)
+    chains = [geom.outline_points(), *hole_points(plate.holes, geom.tolerance)]
+    length = sum(chain_length(c) for c in chains)
+    tolerance = analysis.design.manufacturing.tolerance
+    return area * cam.thickness, tolerance * length * cam.thickness
 
 
 @dataclass(frozen=True)
