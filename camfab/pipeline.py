@@ -12,16 +12,12 @@ import secrets
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 from camfab import __version__
 from camfab.analysis.kinematics import MotionUnits, continuity_findings, segment_stats
 from camfab.analysis.record import Analysis
 from camfab.design import Design, load_design
 from camfab.errors import OutputError
-
-if TYPE_CHECKING:
-    from camfab.kinds.readback import Exports
 
 #: Every output a design may ask for, in the order files are listed.
 ALL_OUTPUTS = ("dxf", "svg", "stl", "report", "csv")
@@ -40,7 +36,7 @@ def analyse(design: Design) -> Analysis:
     units = MotionUnits(design.follower.oscillating)
     omega = design.cam.omega
     findings, steps = continuity_findings(program, units, omega)
-    bore = bore_finding(design)
+    bore = bore_finding(design, kind.mounted)
     findings = [*findings, *([bore] if bore is not None else [])]
     stats = segment_stats(program, steps, units, omega)
     analysis = kind.analyse(design, program, units, stats, findings)
@@ -59,6 +55,16 @@ def analyse(design: Design) -> Analysis:
                    findings=[*analysis.findings, jump_finding(design, dyn)])
 
 
+@dataclass(frozen=True)
+class Exports:
+    """The manufacturing files by output name (``dxf``, ``svg``, ``stl``), each as its files'
+    bytes by file name (a conjugate pair has a DXF per plate), and, for those a design cannot
+    have, why."""
+
+    files: dict[str, dict[str, bytes]]
+    withheld: dict[str, str]
+
+
 def verify_exports(analysis: Analysis, requested: tuple[str, ...]) -> tuple[Analysis, Exports]:
     """The design's part (through its kind) serialised by the format writers, the files read
     back and the follower run over them.
@@ -71,7 +77,7 @@ def verify_exports(analysis: Analysis, requested: tuple[str, ...]) -> tuple[Anal
 
     from camfab.export.serialise import serialise
     from camfab.kinds import kind_of
-    from camfab.kinds.readback import Exports, verification_finding
+    from camfab.kinds.readback import verification_finding
 
     kind = kind_of(analysis.design.cam.type)
     part = kind.part(analysis)

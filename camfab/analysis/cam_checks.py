@@ -295,16 +295,16 @@ def cutter_finding(design: Design, geom: DiscGeometry, numbers: CamNumbers,
         f"{fmt(milled.at_deg)}°; {advice}", value, radius, "mm", spots)
 
 
-def bore_finding(design: Design) -> Finding | None:
-    """A cam that turns on a shaft (a plate or a drum) with no ``bore``: a warning, since the
-    part as made has no hole to mount it by (None for a linear cam, which slides)."""
-    if design.cam.linear:
+def bore_finding(design: Design, part: str | None) -> Finding | None:
+    """A cam that turns on a shaft (the *part*: "plate" or "drum") with no ``bore``: a warning,
+    since the part as made has no hole to mount it by (None for a cam on no shaft, *part*
+    None: a linear cam slides)."""
+    if part is None:
         return None
     if design.cam.bore is not None:
         return Finding("bore", True, "warning",
                        f"the shaft hole is {fmt(design.cam.bore)} mm across", design.cam.bore,
                        None, "mm")
-    part = "drum" if design.cam.type == "cylindrical" else "plate"
     return Finding("bore", False, "warning",
                    f"no bore: the {part} has no shaft hole (give cam.bore, its diameter, to cut "
                    "one)")

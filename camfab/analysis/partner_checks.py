@@ -21,39 +21,51 @@ from camfab.motion.program import cycle_angles
 
 if TYPE_CHECKING:
     from camfab.analysis.record import Analysis
+    from camfab.geometry.groove import WallContact
 
 #: Ids of the geometric checks run on each cam of a conjugate pair.
 PER_CAM_CHECKS = ("pressure_angle", "undercut", "curvature", "face_width", "cutter")
 
 
-def with_partner(analysis: Analysis) -> tuple[Partner, list[Finding]]:
-    """What holds the follower on its other side in *analysis* of a conjugate or
-    constant-breadth cam (its second contact), and the findings with the second cam's checks
-    and the ``hold`` check."""
+def _load_contact(analysis: Analysis) -> WallContact:
+    """Which side carries the follower: as a groove's walls, by the sign of its
+    acceleration."""
     from camfab.geometry.groove import wall_contact
 
+    fol = analysis.design.follower
+    metres = (fol.arm_length or 0.0) / 1000.0 if fol.oscillating else 1e-3
+    return wall_contact(analysis.program, fol.mass, analysis.design.cam.omega, metres)
+
+
+def breadth_partner(analysis: Analysis) -> tuple[Partner, list[Finding]]:
+    """What holds the follower on its other side in *analysis* of a constant-breadth cam (its
+    own outline half a turn on, under the yoke's other face or roller), and the findings with
+    the ``hold`` check."""
     design, geom = analysis.design, analysis.geometry
     assert geom is not None
     theta = cycle_angles(VERIFY_STEP)
-    fol = design.follower
-    # which side carries the follower: as a groove's walls, by the sign of its acceleration
-    metres = (fol.arm_length or 0.0) / 1000.0 if fol.oscillating else 1e-3
-    contact = wall_contact(analysis.program, fol.mass, design.cam.omega,
-                           metres)
-    if design.cam.type == "constant-breadth":
-        spacing = breadth(geom.cam, analysis.program.max_lift)
-        held = hold(theta, spacing, (geom.profile, geom.cam), (geom.profile, geom.cam), math.pi)
-        partner = Partner("constant-breadth", spacing, held, contact=contact,
-                          flat=geom.cam.follower.flat)
-        return partner, [*analysis.findings, hold_finding(design.cam.type, partner.hold,
-                                                          spacing, tolerance_of(analysis))]
+    spacing = breadth(geom.cam, analysis.program.max_lift)
+    held = hold(theta, spacing, (geom.profile, geom.cam), (geom.profile, geom.cam), math.pi)
+    partner = Partner("constant-breadth", spacing, held, contact=_load_contact(analysis),
+                      flat=geom.cam.follower.flat)
+    return partner, [*analysis.findings, hold_finding(design.cam.type, partner.hold,
+                                                      spacing, tolerance_of(analysis))]
+
+
+def conjugate_partner(analysis: Analysis) -> tuple[Partner, list[Finding]]:
+    """What holds the follower on its other side in *analysis* of a conjugate cam (cam b and
+    its roller), and the findings with each cam's checks and the ``hold`` check."""
+    design, geom = analysis.design, analysis.geometry
+    assert geom is not None
+    theta = cycle_angles(VERIFY_STEP)
+    contact = _load_contact(analysis)
     cam_b, spacing = partner_cam(design, geom.cam)
     program_b = opposite(analysis.program)
     geom_b = plate_geometry(cam_b, program_b, design.manufacturing.tolerance)
     numbers_b = cam_numbers(geom_b, len(program_b.segments))
     held = hold(theta, spacing, (geom.profile, geom.cam), (geom_b.profile, cam_b))
     partner = Partner("conjugate", spacing, held, geom_b, program_b, numbers_b,
-                      mirror=fol.oscillating, contact=contact)
+                      mirror=design.follower.oscillating, contact=contact)
     findings_a: list[Finding] = []
     others: list[Finding] = []
     for f in analysis.findings:

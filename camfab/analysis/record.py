@@ -13,9 +13,9 @@ from camfab.motion.program import MotionProgram
 
 if TYPE_CHECKING:
     from camfab.analysis.dynamics import Dynamics
+    from camfab.analysis.verification import Verification
     from camfab.arrays import Array
     from camfab.geometry.disc_geometry import LiftCheck
-    from camfab.kinds.readback import Verification
 
 
 class CamResult:

@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from camfab.analysis.verification import StlCheck
 from camfab.arrays import Array
 from camfab.export.part import Cylinder, Difference, Extrusion, Mesh, Solid
 from camfab.geometry.sampling import arc_points
@@ -137,35 +138,6 @@ def build(solid: Solid, held: list[Any]) -> Any:
 #: A face with less area than this (mm²) counts as degenerate: far below any facet a plate of
 #: tolerance-sampled curves has, far above the rounding of float32 coordinates' products.
 DEGENERATE_AREA_MM2 = 1e-10
-
-
-@dataclass(frozen=True)
-class StlCheck:
-    """The STL as a reader sees it: read back from its bytes with trimesh (vertices merged).
-    ``short_edges`` and ``sliver_faces`` count what breaks the rule of
-    :mod:`camfab.export.mesh_quality` (an edge shared by two faces counts twice).
-
-    ``volume_allowance_mm3`` is how far the volume may differ from the part's area × thickness:
-    the tolerance along every contour, through the thickness.
-    """
-
-    faces: int
-    watertight: bool
-    consistent_winding: bool
-    degenerate_faces: int
-    short_edges: int
-    sliver_faces: int
-    volume_mm3: float
-    expected_volume_mm3: float
-    volume_allowance_mm3: float
-
-    @property
-    def ok(self) -> bool:
-        """Closed, consistently wound with outward normals (positive volume), no degenerate
-        face, short edge or sliver, and the volume of the part."""
-        return (self.watertight and self.consistent_winding and self.degenerate_faces == 0
-                and self.short_edges == 0 and self.sliver_faces == 0
-                and abs(self.volume_mm3 - self.expected_volume_mm3) <= self.volume_allowance_mm3)
 
 
 def read_stl(data: bytes) -> Any:

@@ -226,14 +226,14 @@ def lift_check(cam: DiscCam, program: MotionProgram, profile: Profile,
     return LiftCheck(theta, error, error * scale)
 
 
-def disc_cam(design: Design) -> DiscCam:
-    """The exact evaluators of a disc-cam design; a groove cam's follower radius is the roller's
-    plus half the groove clearance, so the working curve is the groove's inner wall."""
+def disc_cam(design: Design, clearance: float = 0.0) -> DiscCam:
+    """The exact evaluators of a disc-cam design, the follower's radius grown by *clearance*
+    (mm: a groove's half clearance, so that the working curve is the groove's inner wall)."""
     base = design.cam.base_radius
     assert base is not None, "disc cams have a base radius (design rules)"
     follower = FollowerGeometry.from_design(design)
-    if design.cam.type == "groove":  # the inner wall: the roller plus half the clearance
-        follower = replace(follower, radius=follower.radius + design.follower.groove_clearance / 2)
+    if clearance:
+        follower = replace(follower, radius=follower.radius + clearance)
     return DiscCam(follower, base, design.cam.sigma)
 
 
@@ -261,11 +261,12 @@ def segment_tolerances(cam: DiscCam, dense: DenseCurves, tolerance: float,
     return tolerance * SAMPLING_SHARE * np.maximum(worst, MIN_TOLERANCE_FACTOR)
 
 
-def disc_geometry(design: Design) -> DiscGeometry:
-    """Build the geometry of a disc-cam design."""
-    exact = design.shape.profile(design.cam.sigma) if design.cam.shaped else None
-    return plate_geometry(disc_cam(design), design.program, design.manufacturing.tolerance,
-                          exact)
+def disc_geometry(design: Design, clearance: float = 0.0,
+                  exact: Profile | None = None) -> DiscGeometry:
+    """Build the geometry of a disc-cam design (the follower's radius grown by *clearance*, mm,
+    see :func:`disc_cam`); *exact* is the cam's exact outline when it is drawn from its shape."""
+    return plate_geometry(disc_cam(design, clearance), design.program,
+                          design.manufacturing.tolerance, exact)
 
 
 def plate_geometry(cam: DiscCam, program: MotionProgram, tolerance: float,

@@ -323,7 +323,7 @@ def default_outer_radius(outer_wall_max_radius: float, roller_radius: float) -> 
 def outer_wall_reach(design: Design) -> float:
     """The outer wall's largest radius (mm) on the analysis grid, from the design alone (the
     design rules check ``outer_radius`` against it)."""
-    cam = disc_cam(design)
+    cam = disc_cam(design, design.follower.groove_clearance / 2)
     _, theta, m = design.program.segment_grid(ANALYSIS_STEP)
     return float(np.max(np.hypot(*outer_wall(cam, theta, m).xy.T)))
 

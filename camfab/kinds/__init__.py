@@ -16,10 +16,10 @@ if TYPE_CHECKING:
     from camfab.analysis.findings import Finding
     from camfab.analysis.kinematics import MotionUnits, SegmentStats
     from camfab.analysis.record import Analysis
+    from camfab.analysis.verification import Verification
     from camfab.design import Design
     from camfab.export.part import Part
     from camfab.export.serialise import PartFiles
-    from camfab.kinds.readback import Verification
     from camfab.motion.program import MotionProgram
 
 
@@ -29,6 +29,10 @@ class CamKind(Protocol):
     #: True when the cam drives its follower both ways (a groove, a conjugate pair, a yoke): no
     #: spring to size, and the forces on either side are the kind's own.
     drives_both_ways: bool
+
+    #: What turns on the shaft and needs a bore ("plate", "drum"), or None for a cam on no
+    #: shaft (a linear cam slides).
+    mounted: str | None
 
     def analyse(self, design: Design, program: MotionProgram, units: MotionUnits,
                 stats: list[SegmentStats], findings: list[Finding]) -> Analysis:
@@ -46,20 +50,22 @@ class CamKind(Protocol):
         them: the analysis (with what reading them back changes) and what was found."""
 
 
-#: ``cam.type`` -> the module holding its kind (imported when a design of that type is built).
+#: ``cam.type`` -> the module holding its kind (imported when a design of that type is built),
+#: as ``module`` (its ``KIND``) or ``module:NAME`` for a module holding more than one.
 REGISTRY: dict[str, str] = {
     "disc": "camfab.kinds.disc",
     "circular-arc": "camfab.kinds.shaped",
     "tangent": "camfab.kinds.shaped",
     "cylindrical": "camfab.kinds.drum",
     "groove": "camfab.kinds.groove",
-    "conjugate": "camfab.kinds.pair",
-    "constant-breadth": "camfab.kinds.pair",
+    "conjugate": "camfab.kinds.pair:CONJUGATE",
+    "constant-breadth": "camfab.kinds.pair:CONSTANT_BREADTH",
     "linear": "camfab.kinds.linear",
 }
 
 
 def kind_of(cam_type: str) -> CamKind:
     """The kind of a ``cam.type`` (the design has been validated: the type is registered)."""
-    kind: CamKind = import_module(REGISTRY[cam_type]).KIND
+    module, _, name = REGISTRY[cam_type].partition(":")
+    kind: CamKind = getattr(import_module(module), name or "KIND")
     return kind

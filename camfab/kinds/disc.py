@@ -15,13 +15,14 @@ if TYPE_CHECKING:
     from camfab.analysis.cam_checks import CamNumbers
     from camfab.analysis.findings import Finding
     from camfab.analysis.kinematics import MotionUnits, SegmentStats
+    from camfab.analysis.verification import Verification
     from camfab.arrays import Array
     from camfab.design import Design
     from camfab.export.part import Drawing, Part, Solid
     from camfab.export.serialise import PartFiles
     from camfab.geometry.disc_geometry import DiscGeometry, LiftCheck
     from camfab.geometry.plate import Contours, Plate
-    from camfab.kinds.readback import Verification
+    from camfab.geometry.profile import Profile
     from camfab.motion.program import MotionProgram
 
 
@@ -110,12 +111,15 @@ class PlateResult(CamResult):
 
 
 def analyse_plate(design: Design, program: MotionProgram, units: MotionUnits,
-                  stats: list[SegmentStats], findings: list[Finding]) -> Analysis:
-    """A plate cam's exact curves, key numbers and geometric checks (before *findings*)."""
+                  stats: list[SegmentStats], findings: list[Finding], clearance: float = 0.0,
+                  exact: Profile | None = None) -> Analysis:
+    """A plate cam's exact curves, key numbers and geometric checks (before *findings*); the
+    follower's radius grown by *clearance* (mm), *exact* the outline of a cam drawn from its
+    shape (see :func:`camfab.geometry.disc_geometry.disc_geometry`)."""
     from camfab.analysis.cam_checks import cam_findings, cam_numbers
     from camfab.geometry.disc_geometry import disc_geometry
 
-    geometry = disc_geometry(design)
+    geometry = disc_geometry(design, clearance, exact)
     numbers = cam_numbers(geometry, len(program.segments))
     findings = [*cam_findings(design, geometry, numbers), *findings]
     return Analysis(design, program, units, stats, findings, PlateResult(geometry, numbers))
@@ -225,8 +229,13 @@ class Disc:
     """The disc cam (``cam.type: disc``)."""
 
     drives_both_ways = False
-    analyse = staticmethod(analyse_plate)
+    mounted = "plate"
     verify = staticmethod(plate_verify)
+
+    @staticmethod
+    def analyse(design: Design, program: MotionProgram, units: MotionUnits,
+                stats: list[SegmentStats], findings: list[Finding]) -> Analysis:
+        return analyse_plate(design, program, units, stats, findings)
 
     @staticmethod
     def part(analysis: Analysis) -> Part:

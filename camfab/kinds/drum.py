@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from camfab.analysis.record import TABLE_COLUMNS, Analysis, CamResult, terse
-from camfab.kinds.readback import Verification
+from camfab.analysis.verification import Verification
 
 if TYPE_CHECKING:
     from camfab.analysis.drum_checks import DrumNumbers
@@ -130,6 +130,7 @@ class Drum:
     """The drum cam (``cam.type: cylindrical``)."""
 
     drives_both_ways = False
+    mounted: str | None = "drum"
 
     @staticmethod
     def analyse(design: Design, program: MotionProgram, units: MotionUnits,

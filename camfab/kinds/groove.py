@@ -19,8 +19,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from camfab.analysis.record import terse
+from camfab.analysis.verification import Verification
 from camfab.kinds.disc import PlateResult, analyse_plate
-from camfab.kinds.readback import Verification
 
 if TYPE_CHECKING:
     from camfab.analysis.findings import Finding
@@ -343,6 +343,7 @@ class Groove:
     between the groove's two walls."""
 
     drives_both_ways = True
+    mounted = "plate"
 
     @staticmethod
     def analyse(design: Design, program: MotionProgram, units: MotionUnits,
@@ -350,7 +351,9 @@ class Groove:
         """A plate cam's analysis with the groove's walls and checks."""
         from camfab.analysis.groove_checks import with_groove
 
-        analysis = analyse_plate(design, program, units, stats, findings)
+        # the inner wall: the roller plus half the clearance
+        clearance = design.follower.groove_clearance / 2
+        analysis = analyse_plate(design, program, units, stats, findings, clearance)
         walls, findings = with_groove(analysis)
         plate = analysis.result
         assert isinstance(plate, PlateResult)

@@ -12,17 +12,18 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from camfab.analysis.record import TABLE_COLUMNS, Analysis, CamResult, terse
-from camfab.kinds.readback import Verification, against_cut, read_part
+from camfab.analysis.verification import Verification
+from camfab.kinds.readback import against_cut, read_part
 
 if TYPE_CHECKING:
     from camfab.analysis.findings import Finding
     from camfab.analysis.kinematics import MotionUnits, SegmentStats
     from camfab.analysis.linear_checks import LinearNumbers
+    from camfab.analysis.verification import StlCheck
     from camfab.arrays import Array
     from camfab.design import Design
     from camfab.export.part import Drawing, Part
     from camfab.export.serialise import PartFiles
-    from camfab.export.stl import StlCheck
     from camfab.geometry.linear import LinearGeometry
     from camfab.geometry.profile import Profile
     from camfab.motion.program import MotionProgram
@@ -258,6 +259,7 @@ class Linear:
     """The linear (translating, wedge) cam (``cam.type: linear``)."""
 
     drives_both_ways = False
+    mounted = None
 
     @staticmethod
     def analyse(design: Design, program: MotionProgram, units: MotionUnits,

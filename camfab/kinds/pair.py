@@ -11,15 +11,17 @@ back is run under both faces (or rollers) of the yoke.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from camfab.analysis.verification import Verification
 from camfab.geometry.conjugate import hold, made_geometry, to_made_frame
 from camfab.geometry.disc_geometry import VERIFY_STEP, LiftCheck
 from camfab.kinds.disc import PlateResult, analyse_plate
-from camfab.kinds.readback import Verification, against_cut, read_back, verify_plate
+from camfab.kinds.readback import against_cut, read_back, verify_plate
 from camfab.motion.program import cycle_angles
 
 if TYPE_CHECKING:
@@ -35,17 +37,15 @@ if TYPE_CHECKING:
 
 
 def pair_part(analysis: Analysis) -> Part:
-    """A constant-breadth cam's part is a disc cam's; a conjugate pair's is a drawing and a
-    view per plate (``NAME-a``, ``NAME-b``: cam b drawn as it is made, half a turn or mirrored
-    from the frame it is computed in) and one solid of both plates stacked on the bore."""
+    """A conjugate pair's part: a drawing and a view per plate (``NAME-a``, ``NAME-b``: cam b
+    drawn as it is made, half a turn or mirrored from the frame it is computed in) and one
+    solid of both plates stacked on the bore."""
     from camfab.export.part import Part
     from camfab.geometry.plate import plate
-    from camfab.kinds.disc import plate_drawing, plate_part, plate_stack
+    from camfab.kinds.disc import plate_drawing, plate_stack
 
     design, partner, geom_a = analysis.design, analysis.partner, analysis.geometry
-    assert partner is not None and geom_a is not None
-    if partner.geometry is None:  # constant breadth: one cam, both sides of the yoke
-        return plate_part(analysis)
+    assert partner is not None and geom_a is not None and partner.geometry is not None
     name = design.name
     made_b = made_geometry(partner.geometry, partner.mirror)
     analysis_b = replace(analysis, result=replace(analysis.result, geometry=made_b))
@@ -63,29 +63,17 @@ def pair_part(analysis: Analysis) -> Part:
     return Part(drawings, views, solid, made=(plates, made_b))
 
 
-def pair_verify(analysis: Analysis, part: Part, files: PartFiles) -> tuple[Analysis,
-                                                                          Verification]:
-    """Each plate's CUT outline read back and its own roller run over it; then both rollers
-    run over the outlines together, to measure whether they hold the follower. The hold of
-    the cams as written replaces that of the cams as sampled."""
+def _held(analysis: Analysis, check: Verification) -> Analysis:
+    """*analysis* with the hold of the cams as written in place of that of the cams as
+    sampled."""
     from camfab.analysis.partner_checks import read_back_hold
 
-    partner, geom = analysis.partner, analysis.geometry
-    assert partner is not None and geom is not None
-    if partner.geometry is None:  # constant breadth: its outline under both sides of the yoke
-        check, back = verify_plate(analysis, part.made, files)
-        held = hold(cycle_angles(VERIFY_STEP), partner.spacing, (back.part, geom.cam),
-                    (back.part, geom.cam), math.pi)
-        check = replace(check, hold=held)
-    else:
-        check = _verify_pair(analysis, part, files)
-    if check.hold is not None:
-        findings = [read_back_hold(analysis, check.hold) if f.id == "hold" else f
-                    for f in analysis.findings]
-        analysis = replace(analysis, findings=findings,
-                           result=replace(analysis.result, partner=replace(partner,
-                                                                           hold=check.hold)))
-    return analysis, check
+    assert check.hold is not None and analysis.partner is not None
+    findings = [read_back_hold(analysis, check.hold) if f.id == "hold" else f
+                for f in analysis.findings]
+    return replace(analysis, findings=findings,
+                   result=replace(analysis.result,
+                                  partner=replace(analysis.partner, hold=check.hold)))
 
 
 def _verify_pair(analysis: Analysis, part: Part, files: PartFiles) -> Verification:
@@ -225,28 +213,76 @@ def _draw_partner(ax: Any, analysis: Analysis, partner: Partner) -> None:
 
 
 
-class Pair:
-    """The cams that hold their follower on both sides: the conjugate pair and the
-    constant-breadth cam (``cam.type: conjugate``, ``constant-breadth``)."""
+def _with_partner(analysis: Analysis,
+                  partner_of: Callable[[Analysis], tuple[Partner, list[Finding]]]) -> Analysis:
+    plate = analysis.result
+    assert isinstance(plate, PlateResult)
+    partner, findings = partner_of(analysis)
+    return replace(analysis, findings=findings,
+                   result=PairResult(plate.geometry, plate.numbers, partner))
+
+
+class ConstantBreadth:
+    """The constant-breadth (constant-diameter) cam (``cam.type: constant-breadth``): one disc
+    cam between the two faces or rollers of a yoke, its outline half a turn on holding the
+    other side. Its files are a disc cam's."""
 
     drives_both_ways = True
+    mounted = "plate"
 
     @staticmethod
     def analyse(design: Design, program: MotionProgram, units: MotionUnits,
                 stats: list[SegmentStats], findings: list[Finding]) -> Analysis:
-        """A plate cam's analysis with the second contact, the second cam's checks and the
-        ``hold`` check."""
-        from camfab.analysis.partner_checks import with_partner
+        """A plate cam's analysis with the second contact and the ``hold`` check."""
+        from camfab.analysis.partner_checks import breadth_partner
 
-        analysis = analyse_plate(design, program, units, stats, findings)
-        partner, findings = with_partner(analysis)
-        plate = analysis.result
-        assert isinstance(plate, PlateResult)
-        return replace(analysis, findings=findings,
-                       result=PairResult(plate.geometry, plate.numbers, partner))
+        return _with_partner(analyse_plate(design, program, units, stats, findings),
+                             breadth_partner)
 
+    @staticmethod
+    def part(analysis: Analysis) -> Part:
+        from camfab.kinds.disc import plate_part
+
+        return plate_part(analysis)
+
+    @staticmethod
+    def verify(analysis: Analysis, part: Part, files: PartFiles) -> tuple[Analysis,
+                                                                          Verification]:
+        """The outline read back, run under both sides of the yoke."""
+        partner, geom = analysis.partner, analysis.geometry
+        assert partner is not None and geom is not None
+        check, back = verify_plate(analysis, part.made, files)
+        held = hold(cycle_angles(VERIFY_STEP), partner.spacing, (back.part, geom.cam),
+                    (back.part, geom.cam), math.pi)
+        check = replace(check, hold=held)
+        return _held(analysis, check), check
+
+
+class Conjugate:
+    """The conjugate pair (``cam.type: conjugate``): two plates on one shaft, each driving one
+    roller of the follower, together holding it both ways."""
+
+    drives_both_ways = True
+    mounted = "plate"
     part = staticmethod(pair_part)
-    verify = staticmethod(pair_verify)
+
+    @staticmethod
+    def analyse(design: Design, program: MotionProgram, units: MotionUnits,
+                stats: list[SegmentStats], findings: list[Finding]) -> Analysis:
+        """A plate cam's analysis with cam b, each cam's checks and the ``hold`` check."""
+        from camfab.analysis.partner_checks import conjugate_partner
+
+        return _with_partner(analyse_plate(design, program, units, stats, findings),
+                             conjugate_partner)
+
+    @staticmethod
+    def verify(analysis: Analysis, part: Part, files: PartFiles) -> tuple[Analysis,
+                                                                          Verification]:
+        """Each plate's CUT outline read back and its own roller run over it; then both
+        rollers run over the outlines together, to measure whether they hold the follower."""
+        check = _verify_pair(analysis, part, files)
+        return _held(analysis, check), check
 
 
-KIND = Pair()
+CONSTANT_BREADTH = ConstantBreadth()
+CONJUGATE = Conjugate()

@@ -17,42 +17,17 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from camfab.analysis.findings import Finding
+from camfab.analysis.verification import Verification
 from camfab.geometry.disc_geometry import LiftCheck
 
 if TYPE_CHECKING:
     from camfab.analysis.record import Analysis
     from camfab.design import Design
     from camfab.export.serialise import PartFiles
-    from camfab.export.stl import StlCheck
-    from camfab.geometry.conjugate import Hold
     from camfab.geometry.disc_geometry import DiscGeometry
     from camfab.geometry.plate import Plate
     from camfab.geometry.profile import Profile
     from camfab.motion.program import MotionProgram
-
-@dataclass(frozen=True)
-class Verification:
-    """What reading the files back found.
-
-    ``lift`` is the follower run over the geometry as written; ``source`` says which; ``entities``
-    counts the lines and arcs of the CUT contour read back; ``deviation_mm`` is its largest
-    distance from the exact curve (a disc's working curve offset kerf/2 outward with a kerf, or a
-    drum's walls developed at its surface; None for an undercut cam, whose outline is the
-    trimmed one on purpose); ``stl`` is the STL read back (when one is made).
-    """
-
-    lift: LiftCheck
-    source: str
-    entities: int
-    deviation_mm: float | None
-    stl: StlCheck | None = None
-    exempt: bool = False
-    hold: Hold | None = None
-    #: An undercut cam's files held to the cam camfab computed, whose motion departs from the
-    #: design on purpose: the follower's lift over the geometry as written less its lift over
-    #: the cut cam (None when there is no such reference: a folded groove).
-    cut_error: LiftCheck | None = None
-
 
 def against_cut(written: LiftCheck, cut: LiftCheck, tolerance: float) -> LiftCheck:
     """The lift over the files *written* against the motion of the *cut* cam as computed (its
@@ -67,16 +42,6 @@ def against_cut(written: LiftCheck, cut: LiftCheck, tolerance: float) -> LiftChe
     departs = np.abs(cut.error_mm) > SAMPLING_SHARE * tolerance
     return LiftCheck(written.theta, written.error - np.where(departs, cut.error, 0.0),
                      written.error_mm - np.where(departs, cut.error_mm, 0.0))
-
-
-@dataclass(frozen=True)
-class Exports:
-    """The manufacturing files by output name (``dxf``, ``svg``, ``stl``), each as its files'
-    bytes by file name (a conjugate pair has a DXF per plate), and, for those a design cannot
-    have, why."""
-
-    files: dict[str, dict[str, bytes]]
-    withheld: dict[str, str]
 
 
 def verify_plate(analysis: Analysis, contours: Plate,

@@ -69,6 +69,7 @@ class Shaped:
     """The circular-arc and tangent cams (``cam.type: circular-arc``, ``tangent``)."""
 
     drives_both_ways = False
+    mounted = "plate"
     verify = staticmethod(plate_verify)
 
     @staticmethod
@@ -77,7 +78,8 @@ class Shaped:
         """A plate cam's analysis with the shape's numbers (radii, centres, key points)."""
         from camfab.analysis.shape_numbers import shape_numbers
 
-        analysis = analyse_plate(design, program, units, stats, findings)
+        exact = design.shape.profile(design.cam.sigma)
+        analysis = analyse_plate(design, program, units, stats, findings, exact=exact)
         plate = analysis.result
         assert isinstance(plate, PlateResult)
         return replace(analysis, result=ShapedResult(plate.geometry, plate.numbers,

@@ -1,0 +1,65 @@
+"""The records of a build's read-back: what reading its files back found (the follower run over
+the geometry as written, the STL as a reader sees it). Made by the kinds and the format readers,
+carried by the analysis to the report."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from camfab.geometry.conjugate import Hold
+    from camfab.geometry.disc_geometry import LiftCheck
+
+
+@dataclass(frozen=True)
+class Verification:
+    """What reading the files back found.
+
+    ``lift`` is the follower run over the geometry as written; ``source`` says which; ``entities``
+    counts the lines and arcs of the CUT contour read back; ``deviation_mm`` is its largest
+    distance from the exact curve (a disc's working curve offset kerf/2 outward with a kerf, or a
+    drum's walls developed at its surface; None for an undercut cam, whose outline is the
+    trimmed one on purpose); ``stl`` is the STL read back (when one is made).
+    """
+
+    lift: LiftCheck
+    source: str
+    entities: int
+    deviation_mm: float | None
+    stl: StlCheck | None = None
+    exempt: bool = False
+    hold: Hold | None = None
+    #: An undercut cam's files held to the cam camfab computed, whose motion departs from the
+    #: design on purpose: the follower's lift over the geometry as written less its lift over
+    #: the cut cam (None when there is no such reference: a folded groove).
+    cut_error: LiftCheck | None = None
+
+
+@dataclass(frozen=True)
+class StlCheck:
+    """The STL as a reader sees it: read back from its bytes with trimesh (vertices merged).
+    ``short_edges`` and ``sliver_faces`` count what breaks the rule of
+    :mod:`camfab.export.mesh_quality` (an edge shared by two faces counts twice).
+
+    ``volume_allowance_mm3`` is how far the volume may differ from the part's area × thickness:
+    the tolerance along every contour, through the thickness.
+    """
+
+    faces: int
+    watertight: bool
+    consistent_winding: bool
+    degenerate_faces: int
+    short_edges: int
+    sliver_faces: int
+    volume_mm3: float
+    expected_volume_mm3: float
+    volume_allowance_mm3: float
+
+    @property
+    def ok(self) -> bool:
+        """Closed, consistently wound with outward normals (positive volume), no degenerate
+        face, short edge or sliver, and the volume of the part."""
+        return (self.watertight and self.consistent_winding and self.degenerate_faces == 0
+                and self.short_edges == 0 and self.sliver_faces == 0
+                and abs(self.volume_mm3 - self.expected_volume_mm3) <= self.volume_allowance_mm3)
