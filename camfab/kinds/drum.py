@@ -130,7 +130,7 @@ class Drum:
     """The drum cam (``cam.type: cylindrical``)."""
 
     drives_both_ways = False
-    mounted: str | None = "drum"
+    mounted = "drum"
 
     @staticmethod
     def analyse(design: Design, program: MotionProgram, units: MotionUnits,

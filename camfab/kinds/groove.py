@@ -1,13 +1,17 @@
-"""A groove cam's files, made and read back: the DXF's ``POCKET`` walls are read as a reader of
-the file would and the roller is run against both of them; the STL is read back and checked
-closed, outward and of the part's volume.
+"""The face-groove cam (THEORY §F): a disc cam's pitch curve, the roller held between the
+groove's two walls. Its analysis is a plate cam's with the walls and the groove's checks; its
+part is the plate cut out (the outer circle and the holes on ``CUT``), the walls on ``POCKET``
+and the plate with the groove pocketed into its face as a solid.
 
-The inner wall is checked as a disc cam's profile is: the roller (its radius plus half the
-clearance, the contact the groove gives it) is pressed onto it from outside at every 0.1° and its
-lift compared with the design. The outer wall pulls the roller back and cannot be pressed onto
-from outside, so at every 0.1° the exact roller centre's distance from each wall read back is
-measured: less the roller's radius and divided by cos φ it is the follower's displacement that
-wall would cause (a wall δ off along the normal moves the follower δ/cos φ along its path).
+Reading back: the DXF's ``POCKET`` walls are read as a reader of the file would and the roller is
+run against both of them; the STL is read back and checked closed, outward and of the part's
+volume. The inner wall is checked as a disc cam's profile is: the roller (its radius plus half
+the clearance, the contact the groove gives it) is pressed onto it from outside at every 0.1°
+and its lift compared with the design. The outer wall pulls the roller back and cannot be
+pressed onto from outside, so at every 0.1° the exact roller centre's distance from each wall
+read back is measured: less the roller's radius and divided by cos φ it is the follower's
+displacement that wall would cause (a wall δ off along the normal moves the follower δ/cos φ
+along its path).
 """
 
 from __future__ import annotations

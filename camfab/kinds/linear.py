@@ -1,7 +1,13 @@
-"""A linear cam's files, made and read back: the DXF's CUT outline is read as a reader of the
-file would (the kerf taken back off), the follower run over it along the whole stroke and its
-height compared with base_height + s; the outline's distance from the exact working curve is
-measured; the STL is read back and checked closed, outward and of the plate's volume.
+"""The linear (translating, wedge) cam: a plate sliding along X drives the follower across it.
+Its analysis is the plate's exact curves, numbers and checks over one stroke; its part is the
+plate's drawing (the CUT outline: the working curve fitted with lines and arcs, the two
+square ends and the base line; the pitch curve, the zero-lift lines, marks and notes) and the
+plate extruded to its thickness; its report draws the plate at travel 0 with its follower.
+
+Reading back: the DXF's CUT outline is read as a reader of the file would (the kerf taken back
+off), the follower run over it along the whole stroke and its height compared with
+base_height + s; the outline's distance from the exact working curve is measured; the STL is
+read back and checked closed, outward and of the plate's volume.
 """
 
 from __future__ import annotations

@@ -1,5 +1,5 @@
 """Shaped cams, whose shape defines the motion: the circular-arc cam and the tangent cam (flanks
-and nose of given radii, THEORY §E). Built as a plate cam, with the key points of the shape."""
+and nose of given radii, THEORY §D). Built as a plate cam, with the key points of the shape."""
 
 from __future__ import annotations
 
