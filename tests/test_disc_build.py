@@ -284,7 +284,7 @@ def test_velocity_steps_give_a_rolled_corner_and_a_trimmed_hollow() -> None:
 
 
 def test_ranges_through_zero_are_joined() -> None:
-    from camfab.analysis.ranges import merge, ranges_deg
+    from camfab.angles import merge, ranges_deg
 
     theta = np.radians(np.arange(360.0))
     mask = (theta < np.radians(10)) | (theta > np.radians(350)) | (np.abs(theta - 2) < 0.05)

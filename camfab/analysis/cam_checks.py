@@ -13,31 +13,11 @@ from typing import Any
 import numpy as np
 
 from camfab.analysis.findings import Finding, listed
-from camfab.analysis.kinematics import degrees
-from camfab.analysis.ranges import Range, merge, ranges_deg
+from camfab.angles import Extreme, Range, extreme, merge, ranges_deg
 from camfab.arrays import Array, Index, Mask
 from camfab.design import Design
 from camfab.geometry.disc_geometry import DiscGeometry
 from camfab.motion.program import MotionProgram
-
-
-@dataclass(frozen=True)
-class Extreme:
-    """A largest or smallest value (in the report unit) and where it occurs (deg); None when the
-    curve never has that kind of value (no concave part, say)."""
-
-    value: float | None
-    at_deg: float | None
-
-
-def extreme(theta: Array, values: Array, mask: Mask | None = None, *,
-             largest: bool) -> Extreme:
-    picked = np.isfinite(values) if mask is None else (mask & np.isfinite(values))
-    if not picked.any():
-        return Extreme(None, None)
-    index = np.flatnonzero(picked)
-    best = index[np.argmax(values[index]) if largest else np.argmin(values[index])]
-    return Extreme(float(values[best]), degrees(float(theta[best])))
 
 
 @dataclass(frozen=True)

@@ -11,9 +11,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from camfab.analysis.cam_checks import Extreme, extreme, fmt, where
+from camfab.analysis.cam_checks import fmt, where
 from camfab.analysis.findings import Finding
-from camfab.analysis.ranges import ranges_deg
+from camfab.angles import Extreme, extreme, ranges_deg
 from camfab.design import Design
 from camfab.geometry.drum import DrumDense
 

@@ -146,7 +146,7 @@ def jump_finding(design: Design, dyn: Dynamics) -> Finding:
 
 
 def _negative_ranges(dyn: Dynamics) -> tuple[tuple[float, float], ...]:
-    from camfab.analysis.ranges import ranges_deg
+    from camfab.angles import ranges_deg
 
     assert dyn.force_N is not None
     return ranges_deg(dyn.theta, dyn.force_N < 0.0)

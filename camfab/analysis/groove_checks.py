@@ -14,9 +14,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from camfab.analysis.cam_checks import Extreme, extreme, fmt, where
+from camfab.analysis.cam_checks import fmt, where
 from camfab.analysis.findings import Finding
-from camfab.analysis.ranges import merge, ranges_deg
+from camfab.angles import Extreme, extreme, merge, ranges_deg
 from camfab.geometry.groove import GrooveWalls, groove_walls, wall_lift_check
 
 if TYPE_CHECKING:

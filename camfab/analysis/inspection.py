@@ -29,7 +29,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from camfab.analysis.findings import Finding, exit_status
-from camfab.analysis.ranges import Range, ranges_deg
+from camfab.angles import Range, ranges_deg
 from camfab.arrays import Array, Index, Mask
 from camfab.errors import InspectionError
 from camfab.geometry.disc import DiscCam
@@ -383,7 +383,7 @@ def _base_under(follower: FollowerGeometry, lowest: float) -> float:
 def inspection_findings(ins: Inspection) -> list[Finding]:
     """The deviation against the tolerance (an error: it fails the inspection) and the pressure
     angle against its limit (a warning: the part is as designed or not, whatever its φ)."""
-    from camfab.analysis.kinematics import degrees
+    from camfab.angles import degrees
 
     findings = []
     worst = ins.max_deviation()

@@ -11,6 +11,7 @@ import math
 from dataclasses import dataclass
 
 from camfab.analysis.findings import Finding, Severity, listed
+from camfab.angles import degrees
 from camfab.motion.continuity import ORDER_NAMES, Step, joint_steps, unbounded_orders
 from camfab.motion.program import MotionProgram
 
@@ -56,11 +57,6 @@ class MotionUnits:
         """A derivative per radianⁿ of cam angle at speed *omega* (rad/s) in report units."""
         value = per_rad * omega**order
         return value if self.oscillating else value / 1000.0
-
-
-def degrees(angle: float) -> float:
-    """*angle* (rad) in degrees, rounded to 1e-9° so 120° does not print as 119.99999999999999."""
-    return round(math.degrees(angle), 9) + 0.0
 
 
 @dataclass(frozen=True)

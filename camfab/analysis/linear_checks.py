@@ -14,9 +14,9 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from camfab.analysis.cam_checks import CurveNumbers, Extreme, curve_extremes, fmt, where
+from camfab.analysis.cam_checks import CurveNumbers, curve_extremes, fmt, where
 from camfab.analysis.findings import Finding, listed
-from camfab.analysis.ranges import Range, merge, ranges_deg
+from camfab.angles import Extreme, Range, merge, ranges_deg
 from camfab.geometry.linear import LinearGeometry
 
 if TYPE_CHECKING:

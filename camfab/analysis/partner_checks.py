@@ -6,22 +6,123 @@ interference over the whole cycle), for conjugate and constant-breadth cams.
 from __future__ import annotations
 
 import math
-from dataclasses import replace
-from typing import TYPE_CHECKING
+from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from camfab.analysis.cam_checks import cam_findings, cam_numbers, fmt, where
 from camfab.analysis.findings import Finding
-from camfab.analysis.ranges import ranges_deg
-from camfab.geometry.conjugate import Hold, Partner, breadth, hold, partner_cam
+from camfab.angles import extreme, ranges_deg
+from camfab.geometry.conjugate import Hold, breadth, hold, partner_cam
 from camfab.geometry.disc_geometry import VERIFY_STEP, plate_geometry
 from camfab.motion.mirror import opposite
 from camfab.motion.program import cycle_angles
 
 if TYPE_CHECKING:
+    from camfab.analysis.cam_checks import CamNumbers
     from camfab.analysis.record import Analysis
+    from camfab.geometry.disc_geometry import DiscGeometry
     from camfab.geometry.groove import WallContact
+    from camfab.motion.program import MotionProgram
+
+@dataclass(frozen=True)
+class Partner:
+    """What holds a positive-drive plate cam's follower on the other side.
+
+    Attributes
+    ----------
+    kind
+        ``conjugate`` (a second cam) or ``constant-breadth`` (the same cam half a turn on).
+    spacing
+        Conjugate: the rollers' distance along the follower (mm), or the angle between the
+        bell-crank's arms (rad). Constant breadth: the distance between the yoke's faces or its
+        rollers' centres (mm).
+    hold
+        The follower run over both contacts of the cams as sampled.
+    geometry, program, numbers
+        Conjugate only: cam b's geometry in the frame it is computed in, its motion ``h − s``
+        and its key numbers.
+    mirror
+        Conjugate only: cam b is computed mirrored in the line of centres (an oscillating pair),
+        not turned half a turn.
+    contact
+        Which side carries the follower over the cycle (+1 cam a or the upper face or roller,
+        −1 the other), by the sign of its acceleration, with the force given a mass and speed.
+    flat
+        Constant breadth: the yoke's contacts are flat faces (else rollers).
+    """
+
+    kind: str
+    spacing: float
+    hold: Hold
+    geometry: DiscGeometry | None = None
+    program: MotionProgram | None = None
+    numbers: CamNumbers | None = None
+    mirror: bool = False
+    contact: WallContact | None = None
+    flat: bool = False
+
+    @property
+    def sides(self) -> dict[int, str]:
+        """The contact carrying the follower by the sign of s″: +1 pushes it away from the cam
+        centre, −1 pulls it back."""
+        if self.kind == "conjugate":
+            return {1: "cam a", -1: "cam b"}
+        return {1: "upper face", -1: "lower face"} if self.yoke_faces else {
+            1: "upper roller", -1: "lower roller"}
+
+    @property
+    def yoke_faces(self) -> bool:
+        """True for a constant-breadth cam between two flat faces."""
+        return self.geometry is None and self.flat
+
+    @property
+    def hold_kind(self) -> str:
+        """What holds the follower: ``conjugate`` rollers, a ``bell-crank``'s or a yoke."""
+        return "bell-crank" if self.mirror else self.kind
+
+    def report_geometry(self) -> dict[str, Any]:
+        """The JSON report's geometry keys of the second contact (mm, deg)."""
+        out: dict[str, Any] = {}
+        if self.kind == "constant-breadth":
+            out["breadth_mm"] = self.spacing
+        elif self.mirror:
+            out["arm_angle_deg"] = math.degrees(self.spacing)
+        else:
+            out["roller_spacing_mm"] = self.spacing
+        out.update({"hold_max_gap_mm": self.hold.max_gap,
+                    "hold_max_interference_mm": self.hold.max_interference})
+        contact = self.contact
+        if contact is not None:
+            sides = self.sides
+            out["load_changes"] = [{"cam_angle_deg": deg, "from": sides[-int(to)],
+                                    "onto": sides[int(to)]}
+                                   for deg, to in zip(contact.changes_deg, contact.onto,
+                                                      strict=True)]
+            force = contact.force_N
+            for sign in (1, -1):
+                key = sides[sign].replace(" ", "_")
+                worst = (None if force is None else
+                         extreme(contact.theta, sign * force, sign * force > 0, largest=True))
+                out[f"max_{key}_force_N"] = None if worst is None else worst.value
+                out[f"max_{key}_force_at_deg"] = None if worst is None else worst.at_deg
+        geom, numbers = self.geometry, self.numbers
+        if geom is None or numbers is None:
+            return out
+        out.update({
+            "cam_b_base_radius_mm": geom.cam.base_radius,
+            "cam_b_prime_radius_mm": geom.cam.prime_radius,
+            "cam_b_max_radius_mm": numbers.max_radius_mm,
+            "cam_b_pitch_min_radius_of_curvature_mm": numbers.pitch_min_convex.value,
+            "cam_b_profile_min_radius_of_curvature_mm": numbers.profile_min_convex.value,
+            "cam_b_profile_min_concave_radius_mm": numbers.profile_min_concave.value,
+            "cam_b_pressure_angle_max_deg": numbers.pressure_angle.value,
+            "cam_b_pressure_angle_max_at_deg": numbers.pressure_angle.at_deg,
+            "cam_b_undercut": geom.undercut,
+        })
+        return out
+
 
 #: Ids of the geometric checks run on each cam of a conjugate pair.
 PER_CAM_CHECKS = ("pressure_angle", "undercut", "curvature", "face_width", "cutter")

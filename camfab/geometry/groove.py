@@ -227,8 +227,7 @@ class GrooveWalls:
 
     def report_geometry(self) -> dict[str, Any]:
         """The groove's numbers for the JSON report's geometry block (mm, deg, N)."""
-        from camfab.analysis.cam_checks import extreme
-        from camfab.analysis.ranges import ranges_deg
+        from camfab.angles import extreme, ranges_deg
 
         theta, rho = self.dense_theta, self.pitch_radius
         outer_rho = self.outer_dense.radius

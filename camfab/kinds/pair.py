@@ -27,12 +27,12 @@ from camfab.motion.program import cycle_angles
 if TYPE_CHECKING:
     from camfab.analysis.findings import Finding
     from camfab.analysis.kinematics import MotionUnits, SegmentStats
+    from camfab.analysis.partner_checks import Partner
     from camfab.analysis.record import Analysis
     from camfab.arrays import Array
     from camfab.design import Design
     from camfab.export.part import Part
     from camfab.export.serialise import PartFiles
-    from camfab.geometry.conjugate import Partner
     from camfab.motion.program import MotionProgram
 
 

@@ -1,4 +1,5 @@
-"""Angle ranges in degrees: where along the cycle a condition holds.
+"""Angles along the cycle: in degrees as reports give them, the ranges where a condition
+holds, and the extremes of a curve and where they fall.
 
 A range is ``(start_deg, end_deg)`` in the direction of rotation; a range that runs through
 θ = 0 has ``start_deg > end_deg`` (``(350.0, 10.0)``).
@@ -6,12 +7,40 @@ A range is ``(start_deg, end_deg)`` in the direction of rotation; a range that r
 
 from __future__ import annotations
 
+import math
+from dataclasses import dataclass
+
 import numpy as np
 
-from camfab.analysis.kinematics import degrees
 from camfab.arrays import Array, Mask, runs
 
 Range = tuple[float, float]
+
+
+def degrees(angle: float) -> float:
+    """*angle* (rad) in degrees, rounded to 1e-9° so 120° does not print as 119.99999999999999."""
+    return round(math.degrees(angle), 9) + 0.0
+
+
+@dataclass(frozen=True)
+class Extreme:
+    """A largest or smallest value (in the report unit) and where it occurs (deg); None when the
+    curve never has that kind of value (no concave part, say)."""
+
+    value: float | None
+    at_deg: float | None
+
+
+def extreme(theta: Array, values: Array, mask: Mask | None = None, *,
+            largest: bool) -> Extreme:
+    """The largest (or smallest) finite value of *values* over *theta* (rad) where *mask*
+    holds, and where it falls."""
+    picked = np.isfinite(values) if mask is None else (mask & np.isfinite(values))
+    if not picked.any():
+        return Extreme(None, None)
+    index = np.flatnonzero(picked)
+    best = index[np.argmax(values[index]) if largest else np.argmin(values[index])]
+    return Extreme(float(values[best]), degrees(float(theta[best])))
 
 
 def ranges_deg(theta: Array, mask: Mask) -> tuple[Range, ...]:
