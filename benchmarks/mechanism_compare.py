@@ -9,7 +9,7 @@ translating follower on a radial line, rise 25 mm over 120°, dwell 60°, return
 Followers: a knife edge, a 10 mm roller, the same roller offset 10 mm, and a flat face.
 
 **Lift error, measured the same way for both tools.** Each tool's cam outline is taken as points
-in camfab's frame, made a :class:`camfab.geometry.profile.Profile` (for camfab's DXF, the lines
+in camfab's frame, made a :class:`camfab.curves.profile.Profile` (for camfab's DXF, the lines
 and arcs read back with ``read_cut_outline``), and the ideal follower is run over it with
 ``camfab.geometry.simulate.simulate`` every 0.1° of cam angle. Its lift is compared with the
 design lift s(θ) from camfab's motion program (the closed forms of the laws; ``mechanism``'s own
@@ -57,9 +57,9 @@ import yaml
 from timing import median_seconds, use_checkout, wall
 
 if TYPE_CHECKING:
+    from camfab.curves.follower import FollowerGeometry
+    from camfab.curves.profile import Profile
     from camfab.design import Design
-    from camfab.geometry.follower import FollowerGeometry
-    from camfab.geometry.profile import Profile
     from camfab.motion.program import MotionProgram
 
 #: The cam both tools describe (mm, degrees).
@@ -94,7 +94,7 @@ class Case:
     follower: dict[str, Any]
 
     def geometry(self) -> FollowerGeometry:
-        from camfab.geometry.follower import FollowerGeometry
+        from camfab.curves.follower import FollowerGeometry
 
         radius = float(self.follower.get("roller_radius", 0.0))
         return FollowerGeometry(contact=self.follower["type"], radius=radius,
@@ -202,7 +202,7 @@ def lift_error(profile: Profile, case: Case, program: MotionProgram, sigma: int)
 
 
 def points_profile(xy: np.ndarray) -> Profile:
-    from camfab.geometry.profile import Profile
+    from camfab.curves.profile import Profile
 
     return Profile.from_points(xy)
 

@@ -367,7 +367,7 @@ def _build_one(path: str, out_dir: Path | None) -> Outcome:
 
 def _check_one(path: str) -> Outcome:
     def work() -> Outcome:
-        from camfab.design import load_design
+        from camfab.pipeline import load_design
         from camfab.pipeline import analyse
         from camfab.report_text import print_summary
 

@@ -26,10 +26,10 @@ from camfab.design.rules import MIN_TABLE_STEP_DEG
 from camfab.errors import InspectionError
 
 if TYPE_CHECKING:
+    from camfab.curves.follower import FollowerGeometry
+    from camfab.curves.profile import Profile
     from camfab.design import Design
     from camfab.export.outline import Outline
-    from camfab.geometry.follower import FollowerGeometry
-    from camfab.geometry.profile import Profile
 
 #: Follower keys of a design's ``follower:`` section that the inspection follower takes.
 FOLLOWER_KEYS = ("type", "motion", "offset", "roller_radius", "face_radius", "pivot_distance",
@@ -159,7 +159,7 @@ def inspect(options: InspectOptions) -> InspectResult:
 
 def prepare(options: InspectOptions) -> Prepared:
     """Read the design, the follower file and the outline, and resolve the setup."""
-    from camfab.design import load_design
+    from camfab.pipeline import load_design
     from camfab.design.source import MAX_DESIGN_BYTES
     from camfab.export.outline import read_outline
     from camfab.files import check_bounded
@@ -267,7 +267,7 @@ def _follower(options: InspectOptions, extra: dict[str, Any], design: Design | N
               units: str) -> FollowerGeometry:
     """The inspection follower: the design's, then the follower file's keys, then the command
     line's, each over the one before."""
-    from camfab.geometry.follower import FollowerGeometry
+    from camfab.curves.follower import FollowerGeometry
 
     fields: dict[str, Any] = {}
     if design is not None:
@@ -453,7 +453,7 @@ def _centred(profile: Profile, centre: tuple[float, float], path: Path) -> Profi
     """*profile* moved so *centre* is the origin; the centre must lie inside it."""
     import numpy as np
 
-    from camfab.geometry.profile import Profile as P
+    from camfab.curves.profile import Profile as P
     from camfab.geometry.undercut import is_simple
 
     moved = P(profile.vertices - np.array(centre), profile.bulges)

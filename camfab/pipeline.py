@@ -12,15 +12,42 @@ import secrets
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 from camfab import __version__
 from camfab.analysis.kinematics import MotionUnits, continuity_findings, segment_stats
 from camfab.analysis.record import Analysis
-from camfab.design import Design, load_design
+from camfab.design import Design
 from camfab.errors import OutputError
 
 #: Every output a design may ask for, in the order files are listed.
 ALL_OUTPUTS = ("dxf", "svg", "stl", "report", "csv")
+
+
+def load_design(path: str | Path) -> Design:
+    """Read, check and return the design in file *path*: the design file's rules, then its cam
+    kind's (those that need the kind's geometry), every broken one reported on its line
+    (raises DesignError/DesignFileError)."""
+    from camfab.design import load_design as read
+    from camfab.kinds import check_design
+
+    return read(path, check_design)
+
+
+def design_from_text(text: str, file: str = "<design>", folder: Path = Path(".")) -> Design:
+    """The design in YAML *text*, checked as :func:`load_design` checks a file's."""
+    from camfab.design import design_from_text as read
+    from camfab.kinds import check_design
+
+    return read(text, file, folder, check_design)
+
+
+def design_from_mapping(data: dict[str, Any], file: str = "<design>") -> Design:
+    """A design from already-parsed data, checked as :func:`load_design` checks a file's."""
+    from camfab.design import design_from_mapping as read
+    from camfab.kinds import check_design
+
+    return read(data, file, check_design)
 
 
 def analyse(design: Design) -> Analysis:

@@ -15,10 +15,10 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from scipy.optimize import brentq
 
+from camfab.curves.follower import FollowerGeometry
+from camfab.curves.profile import Profile
 from camfab.design import design_from_text, load_design
 from camfab.geometry.disc_geometry import disc_geometry
-from camfab.geometry.follower import FollowerGeometry
-from camfab.geometry.profile import Profile
 from camfab.geometry.simulate import simulate
 from camfab.pipeline import analyse, render
 

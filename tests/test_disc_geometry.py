@@ -14,9 +14,9 @@ import math
 import numpy as np
 import pytest
 
+from camfab.curves.follower import FollowerGeometry
 from camfab.design import load_design
 from camfab.geometry.disc import DiscCam
-from camfab.geometry.follower import FollowerGeometry
 
 from .conftest import DESIGNS
 

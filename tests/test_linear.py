@@ -20,9 +20,9 @@ import shapely
 import trimesh
 from scipy.spatial import cKDTree
 
+from camfab.curves.profile import Profile
 from camfab.design import design_from_text, load_design
 from camfab.geometry.linear import follower_heights, linear_cam
-from camfab.geometry.profile import Profile
 from camfab.pipeline import Analysis, Artifacts, analyse, render
 
 from .conftest import DESIGNS, run_cli

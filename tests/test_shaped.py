@@ -15,9 +15,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from camfab.curves.follower import FollowerGeometry
+from camfab.curves.shaped import ShapedCam
 from camfab.design import design_from_text, load_design
-from camfab.geometry.follower import FollowerGeometry
-from camfab.geometry.shaped import ShapedCam
 from camfab.geometry.simulate import simulate
 from camfab.pipeline import Analysis, analyse, render
 

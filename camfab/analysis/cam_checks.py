@@ -232,9 +232,9 @@ def cutter_finding(design: Design, geom: DiscGeometry, numbers: CamNumbers,
     radius = design.manufacturing.cutter_radius
     if radius <= 0.0:
         return None
+    from camfab.curves.profile import Profile
     from camfab.geometry.disc_geometry import lift_check
     from camfab.geometry.offset import closing, on_outline, uncut_depth
-    from camfab.geometry.profile import Profile
 
     dense, tol = geom.dense, geom.tolerance
     part = geom.outline_points()

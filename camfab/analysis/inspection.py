@@ -31,10 +31,10 @@ import numpy as np
 from camfab.analysis.findings import Finding, exit_status
 from camfab.angles import Range, ranges_deg
 from camfab.arrays import Array, Index, Mask
+from camfab.curves.follower import FollowerGeometry
+from camfab.curves.profile import Profile
 from camfab.errors import InspectionError
 from camfab.geometry.disc import DiscCam
-from camfab.geometry.follower import FollowerGeometry
-from camfab.geometry.profile import Profile
 
 if TYPE_CHECKING:
     from camfab.analysis.record import Analysis

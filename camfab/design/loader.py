@@ -6,6 +6,7 @@ and what is wrong. When a file has several problems, the one nearest the top is 
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any, NoReturn, get_args
 
@@ -54,22 +55,32 @@ _LAW_KEYS = {
 }
 
 
-def load_design(path: str | Path) -> Design:
-    """Read, check and return the design in file *path* (raises DesignError/DesignFileError)."""
-    return _validate(read_design_file(path))
+#: Checks a higher layer runs on a design the file's own rules accept (the rules of its cam kind
+#: that need the kind's geometry), raising :class:`~camfab.design.rules.RuleViolation` as the
+#: rules do: reported on the line of the key they name like any other.
+Checks = Callable[[Design], None]
 
 
-def design_from_text(text: str, file: str = "<design>", folder: Path = Path(".")) -> Design:
+def load_design(path: str | Path, checks: Checks | None = None) -> Design:
+    """Read, check and return the design in file *path* (raises DesignError/DesignFileError):
+    the design file's rules, then *checks* (:func:`camfab.pipeline.load_design` passes the cam
+    kind's)."""
+    return _validate(read_design_file(path), checks)
+
+
+def design_from_text(text: str, file: str = "<design>", folder: Path = Path("."),
+                     checks: Checks | None = None) -> Design:
     """The design in YAML *text* (for tests and tools; *file* names it in messages)."""
-    return _validate(parse_yaml(text, file, folder))
+    return _validate(parse_yaml(text, file, folder), checks)
 
 
-def design_from_mapping(data: dict[str, Any], file: str = "<design>") -> Design:
+def design_from_mapping(data: dict[str, Any], file: str = "<design>",
+                        checks: Checks | None = None) -> Design:
     """A design from already-parsed data (no line numbers in messages)."""
     if not isinstance(data, dict):
         raise DesignError("a design must be a mapping of keys", location=Location(file, None, ""),
                           got=data)
-    return _validate(SourceDocument(file=file, data=_text_keys(data)))
+    return _validate(SourceDocument(file=file, data=_text_keys(data)), checks)
 
 
 def _text_keys(value: Any, depth: int = 0) -> Any:
@@ -83,7 +94,7 @@ def _text_keys(value: Any, depth: int = 0) -> Any:
     return value
 
 
-def _validate(doc: SourceDocument) -> Design:
+def _validate(doc: SourceDocument, checks: Checks | None = None) -> Design:
     shaped = _Shaper(doc)
     data = shaped.run()
     oscillating = _text(_get(data, "follower", "motion")) == "oscillating"
@@ -92,6 +103,8 @@ def _validate(doc: SourceDocument) -> Design:
     context = {"units": units, "oscillating": oscillating}
     try:
         design = Design.model_validate({**data, "source": doc.file}, context=context)
+        if checks is not None:
+            checks(design)
     except ValidationError as exc:
         raise _first_error(exc, doc, shaped) from None
     except RuleViolation as exc:

@@ -31,7 +31,7 @@ from camfab.design import units as U
 from camfab.errors import DesignError, did_you_mean
 
 if TYPE_CHECKING:
-    from camfab.geometry.shaped import ShapedCam
+    from camfab.curves.shaped import ShapedCam
     from camfab.motion.program import MotionProgram
 
 CamType = Literal["disc", "cylindrical", "circular-arc", "tangent", "groove", "conjugate",
@@ -347,8 +347,8 @@ class Design(Frozen):
         """The motion program s(θ): of ``motion``, or of the cam's shape for a circular-arc or
         tangent cam (built once; the rules build it to check it)."""
         if self.cam.shaped:
-            from camfab.geometry.contact import contact_program
-            from camfab.geometry.follower import FollowerGeometry
+            from camfab.curves.contact import contact_program
+            from camfab.curves.follower import FollowerGeometry
 
             fol = FollowerGeometry.from_design(self)
             return contact_program(self.shape.pieces(), fol.radius, fol.flat)
@@ -371,7 +371,7 @@ class Design(Frozen):
     def shape(self) -> ShapedCam:
         """The dimensions and outline of a circular-arc or tangent cam (raises ShapeError for
         dimensions no such cam has; the design rules have checked them)."""
-        from camfab.geometry.shaped import ShapedCam
+        from camfab.curves.shaped import ShapedCam
 
         cam = self.cam
         assert cam.shaped and cam.base_radius is not None and cam.lift is not None

@@ -11,8 +11,8 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING, NoReturn
 
+from camfab.curves.follower import FollowerGeometry
 from camfab.errors import CamfabError, DesignError
-from camfab.geometry.follower import FollowerGeometry
 
 if TYPE_CHECKING:
     from camfab.design.model import Design
@@ -117,10 +117,10 @@ def _check_cam(design: Design) -> None:
     tolerance = design.manufacturing.tolerance
     if cam.base_radius is not None and cam.base_radius <= tolerance:
         fail(("cam", "base_radius"), f"must be larger than the export tolerance "
-             f"({_mm(tolerance)}): a smaller cam cannot be drawn within it")
+             f"({mm(tolerance)}): a smaller cam cannot be drawn within it")
     if cam.groove_depth is not None and cam.groove_depth <= tolerance:
         fail(("cam", "groove_depth"), f"must be larger than the export tolerance "
-             f"({_mm(tolerance)}): a shallower groove cannot be cut to it")
+             f"({mm(tolerance)}): a shallower groove cannot be cut to it")
     if cam.shaped:
         _check_shape(design)
     if cam.type == "groove":
@@ -132,13 +132,13 @@ def _check_cam(design: Design) -> None:
         if cam.bore is not None and cam.bore / 2 > rb - MIN_WALL_MM:
             fail(("cam", "bore"),
                  f"leaves less than {MIN_WALL_MM:g} mm of material inside the base circle "
-                 f"(bore radius {_mm(cam.bore / 2)} vs base radius {_mm(rb)})")
+                 f"(bore radius {mm(cam.bore / 2)} vs base radius {mm(rb)})")
     if cam.keyway is not None:
         if cam.bore is None:
             fail(("cam", "keyway"), "a keyway needs a bore", show_got=False)
         assert cam.bore is not None
         if cam.keyway.width >= cam.bore:
-            fail(("cam", "keyway", "width"), f"must be narrower than the bore ({_mm(cam.bore)})")
+            fail(("cam", "keyway", "width"), f"must be narrower than the bore ({mm(cam.bore)})")
         outer = cam.radius if cam.type == "cylindrical" else cam.base_radius
         if outer is not None and cam.bore / 2 + cam.keyway.depth > outer - MIN_WALL_MM:
             fail(("cam", "keyway", "depth"),
@@ -151,13 +151,13 @@ def _check_groove(design: Design) -> None:
     assert cam.thickness is not None and cam.groove_depth is not None
     if cam.groove_depth > cam.thickness - MIN_WALL_MM:
         fail(("cam", "groove_depth"), f"must leave at least {MIN_WALL_MM:g} mm of floor under "
-             f"the groove (thickness {_mm(cam.thickness)})")
+             f"the groove (thickness {mm(cam.thickness)})")
 
 
 def _check_groove_fit(design: Design) -> None:
     """A groove cam's roller (its radius plus half the clearance) must reach the prime circle
-    from an oscillating follower's pivot, and the plate's ``outer_radius`` must leave a wall of
-    material outside the groove's outer wall."""
+    from an oscillating follower's pivot. (That the plate's ``outer_radius`` leaves a wall of
+    material outside the groove takes the groove's geometry: the groove kind checks it.)"""
     cam, fol = design.cam, design.follower
     if cam.type != "groove":
         return
@@ -167,17 +167,8 @@ def _check_groove_fit(design: Design) -> None:
         a, arm = fol.pivot_distance or 0.0, fol.arm_length or 0.0
         if not abs(a - arm) < rp < a + arm:
             fail(("follower", "arm_length"), f"the arm cannot reach the prime circle of the "
-                 f"groove's centre line: need |pivot_distance − arm_length| < {_mm(rp)} < "
+                 f"groove's centre line: need |pivot_distance − arm_length| < {mm(rp)} < "
                  "pivot_distance + arm_length")
-    if cam.outer_radius is None:
-        return
-    from camfab.geometry.groove import outer_wall_reach
-
-    reach = outer_wall_reach(design)
-    if cam.outer_radius < reach + MIN_WALL_MM:
-        fail(("cam", "outer_radius"), f"must leave at least {MIN_WALL_MM:g} mm of material "
-             f"outside the groove: its outer wall reaches {_mm(reach)} from the cam centre "
-             f"(outer_radius at least {_mm(reach + MIN_WALL_MM)})")
 
 
 def _check_linear(design: Design) -> None:
@@ -186,14 +177,14 @@ def _check_linear(design: Design) -> None:
     assert cam.base_height is not None
     low = cam.base_height - fol.trace_radius
     if low < MIN_WALL_MM:
-        fail(("cam", "base_height"), f"leaves {_mm(low)} of plate under the follower at zero "
+        fail(("cam", "base_height"), f"leaves {mm(low)} of plate under the follower at zero "
              f"lift (base height less the roller radius); at least {MIN_WALL_MM:g} mm is needed")
 
 
 def _check_shape(design: Design) -> None:
     """A circular-arc or tangent cam's dimensions must make one (and the nose, flanks and base
     circle must all be there)."""
-    from camfab.geometry.shaped import ShapeError
+    from camfab.curves.shaped import ShapeError
 
     cam = design.cam
     if cam.type == "tangent" and cam.lift_angle is None and cam.nose_radius is None:
@@ -209,8 +200,8 @@ def _check_shape(design: Design) -> None:
     if shape.nose_radius < MIN_NOSE_SHARE * size:
         given = ("nose_radius" if cam.nose_radius is not None else
                  "lift_angle" if cam.type == "tangent" else "flank_angle")
-        fail(("cam", given), f"gives a nose of radius {_mm(shape.nose_radius)}: it must be at "
-             f"least {MIN_NOSE_SHARE:g} of the cam's radius ({_mm(size)}), or rounding loses which "
+        fail(("cam", given), f"gives a nose of radius {mm(shape.nose_radius)}: it must be at "
+             f"least {MIN_NOSE_SHARE:g} of the cam's radius ({mm(size)}), or rounding loses which "
              "way the nose faces")
 
 
@@ -250,7 +241,7 @@ def _check_follower(design: Design) -> None:
         rp = (cam.base_radius or 0.0) + fol.trace_radius
         if abs(fol.offset) >= rp:
             fail(("follower", "offset"),
-                 f"|offset| must be smaller than the prime circle radius {_mm(rp)}")
+                 f"|offset| must be smaller than the prime circle radius {mm(rp)}")
 
 
 def _check_motion(design: Design) -> MotionProgram:
@@ -310,8 +301,6 @@ def _check_motion(design: Design) -> MotionProgram:
     _check_steepness(design, program)
     if design.cam.type == "constant-breadth":
         _check_half_turn(design, program)
-    if design.cam.type == "conjugate":
-        _check_partner(design, program)
     return program
 
 
@@ -334,7 +323,7 @@ def _check_excursion(design: Design, program: MotionProgram) -> None:
     if m[0][low] >= -slack and m[0][high] <= top + slack:
         return
     k = low if m[0][low] < -slack else high
-    show = (lambda v: f"{math.degrees(v):.6g}°") if design.follower.oscillating else _mm
+    show = (lambda v: f"{math.degrees(v):.6g}°") if design.follower.oscillating else mm
     where = f"s = {show(float(m[0][k]))} at θ = {math.degrees(float(theta[k])):.6g}°"
     problem = ("goes below zero lift inside the segment, by more than a tenth of the top lift "
                f"{show(top)}" if k == low else f"overshoots the program's top lift {show(top)} "
@@ -372,48 +361,14 @@ def _check_steepness(design: Design, program: MotionProgram) -> None:
              show_got=False)
 
 
-def _check_partner(design: Design, program: MotionProgram) -> None:
-    """A conjugate pair's cam b must have a base circle around the bore."""
-    from camfab.geometry.conjugate import partner_base_radius
-    from camfab.geometry.disc_geometry import disc_cam
-
-    cam_a = disc_cam(design)
-    need = max(MIN_WALL_MM, (design.cam.bore or 0.0) / 2.0 + MIN_WALL_MM)
-    base_b = partner_base_radius(design, cam_a)
-    if design.follower.oscillating:
-        if base_b < need:
-            fail(("follower", "arm_angle"), "leaves cam b no base circle around the bore (cam "
-                 f"b's base radius would be {_mm(base_b)}, at least {_mm(need)} is needed): "
-                 "open the angle between the arms")
-        swing = math.degrees(cam_a.rest + program.max_lift)
-        if math.degrees(design.follower.arm_angle or 0.0) - math.degrees(cam_a.rest) >= 180.0:
-            fail(("follower", "arm_angle"), f"arm b would pass 180° from the line of centres "
-                 f"(arm a turns from {math.degrees(cam_a.rest):.4g}° to {swing:.4g}°)")
-        fol = cam_a.follower
-        top = (design.follower.arm_angle or 0.0) - cam_a.rest
-        reach = math.sqrt(fol.pivot_distance**2 + fol.arm_length**2 - 2 * fol.pivot_distance
-                          * fol.arm_length * math.cos(top)) - fol.radius
-        if reach >= fol.pivot_distance:
-            fail(("follower", "arm_angle"), f"cam b would reach {_mm(reach)} from its centre, "
-                 "past the pivot: the pivot must lie outside both cams")
-        return
-    if base_b < need:
-        reach = need + cam_a.follower.radius
-        least = (cam_a.rest + program.max_lift
-                 + math.sqrt(max(reach * reach - cam_a.follower.offset ** 2, 0.0)))
-        fail(("follower", "roller_spacing"), "leaves cam b no base circle around the bore "
-             f"(cam b's base radius would be {_mm(base_b)}, at least {_mm(need)} is needed): "
-             f"the rollers must be at least {_mm(least)} apart")
-
-
 def _check_travel(design: Design) -> None:
     """A linear cam's segments must cover its stroke exactly."""
     stroke = design.cam.stroke or 0.0
     motion = design.motion or ()
     total = sum(seg.travel or 0.0 for seg in motion)
     if not math.isclose(total, stroke, rel_tol=1e-9, abs_tol=1e-9):
-        fail(("motion",), f"the segment travels sum to {_mm(total)}; they must sum to the "
-             f"stroke {_mm(stroke)}", show_got=False)
+        fail(("motion",), f"the segment travels sum to {mm(total)}; they must sum to the "
+             f"stroke {mm(stroke)}", show_got=False)
 
 
 def _check_half_turn(design: Design, program: MotionProgram) -> None:
@@ -430,7 +385,7 @@ def _check_half_turn(design: Design, program: MotionProgram) -> None:
     fail(("motion", index), "a constant-breadth cam's two faces (or rollers) stay the same "
          "distance apart, so the motion must satisfy s(θ + 180°) = h − s(θ); at "
          f"θ = {math.degrees(at) - 180.0:.6g}° and {math.degrees(at):.6g}° it is off by "
-         f"{_mm(abs(float(error[worst])))}", show_got=False,
+         f"{mm(abs(float(error[worst])))}", show_got=False,
          hint="give only the first 180° of the motion and camfab completes the rest")
 
 
@@ -441,20 +396,20 @@ def _check_cam_fit(design: Design, max_lift: float) -> None:
     assert cam.radius is not None and cam.length is not None and cam.groove_depth is not None
     if cam.groove_depth > cam.radius - MIN_WALL_MM:
         fail(("cam", "groove_depth"), f"must leave at least {MIN_WALL_MM:g} mm below the groove "
-             f"(radius {_mm(cam.radius)})")
+             f"(radius {mm(cam.radius)})")
     if cam.bore is not None and cam.bore / 2 > cam.radius - cam.groove_depth - MIN_WALL_MM:
         fail(("cam", "bore"), "reaches the groove root "
-             f"(root radius {_mm(cam.radius - cam.groove_depth)})")
+             f"(root radius {mm(cam.radius - cam.groove_depth)})")
     half = (fol.roller_radius or 0.0) + fol.groove_clearance / 2
     needed = max_lift + 2 * half + 2 * MIN_WALL_MM
     if needed > cam.length:
-        fail(("cam", "length"), f"the groove needs {_mm(needed)} (lift {_mm(max_lift)} + roller "
+        fail(("cam", "length"), f"the groove needs {mm(needed)} (lift {mm(max_lift)} + roller "
              f"and {MIN_WALL_MM:g} mm walls)")
     if cam.groove_start is not None:
         low = cam.groove_start - half
         high = cam.groove_start + max_lift + half
         if low < MIN_WALL_MM or high > cam.length - MIN_WALL_MM:
-            fail(("cam", "groove_start"), f"puts the groove at z = {_mm(low)} … {_mm(high)}, "
+            fail(("cam", "groove_start"), f"puts the groove at z = {mm(low)} … {mm(high)}, "
                  f"outside the drum's length less {MIN_WALL_MM:g} mm walls")
 
 
@@ -474,7 +429,7 @@ def _check_oscillating(design: Design, max_swing: float) -> None:
         rp = rb + fol.trace_radius
         if not abs(a - arm) < rp < a + arm:
             fail(("follower", "arm_length"), f"the arm cannot reach the prime circle: need "
-                 f"|pivot_distance − arm_length| < {_mm(rp)} < pivot_distance + arm_length")
+                 f"|pivot_distance − arm_length| < {mm(rp)} < pivot_distance + arm_length")
     psi0 = FollowerGeometry.from_design(design).rest_position(rb)
     if psi0 + max_swing >= math.pi:
         fail(("follower", "arm_length"), f"the arm starts at {math.degrees(psi0):.4g}° from the "
@@ -487,7 +442,7 @@ def _check_oscillating(design: Design, max_swing: float) -> None:
     else:
         reach = math.sqrt(a * a + arm * arm - 2 * a * arm * math.cos(top)) - fol.trace_radius
     if reach >= a:
-        fail(("follower", "pivot_distance"), f"the cam would reach {_mm(reach)} from its centre, "
+        fail(("follower", "pivot_distance"), f"the cam would reach {mm(reach)} from its centre, "
              f"past the pivot: the pivot must lie outside the cam", show_got=True)
 
 
@@ -521,10 +476,10 @@ def _check_manufacturing(design: Design) -> None:
     if kerf <= 0.0 or cam.bore is None:
         return
     if kerf >= cam.bore:
-        fail(("manufacturing", "kerf"), f"must be smaller than the bore ({_mm(cam.bore)})")
+        fail(("manufacturing", "kerf"), f"must be smaller than the bore ({mm(cam.bore)})")
     if cam.keyway is not None and kerf >= cam.keyway.width:
         fail(("manufacturing", "kerf"),
-             f"must be smaller than the keyway's width ({_mm(cam.keyway.width)})")
+             f"must be smaller than the keyway's width ({mm(cam.keyway.width)})")
 
 
 #: Cams that drive their follower both ways (positive drive): a spring has nothing to do.
@@ -601,5 +556,6 @@ def _law_names() -> str:
     return ", ".join(LAW_NAMES)
 
 
-def _mm(value: float) -> str:
+def mm(value: float) -> str:
+    """A length for a message: 6 significant digits and its unit (mm)."""
     return f"{value:.6g} mm"

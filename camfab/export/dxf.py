@@ -17,8 +17,8 @@ from typing import Any
 
 import numpy as np
 
+from camfab.curves.profile import Profile
 from camfab.export.part import READ_GAP, Arc, Circle, Drawing, Line
-from camfab.geometry.profile import Profile
 
 #: Layer name -> (ACI colour, linetype): CUT red, references in muted colours.
 LAYERS = {

@@ -35,8 +35,8 @@ from typing import Any
 import numpy as np
 
 from camfab.arrays import Array
+from camfab.curves.profile import Profile
 from camfab.errors import OutlineError
-from camfab.geometry.profile import Profile
 
 #: $INSUNITS codes -> millimetres per drawing unit, every code of the DXF reference (0, unitless,
 #: is absent: the caller decides; the astronomical ones fail the size limits, with a message).

@@ -19,8 +19,8 @@ import numpy as np
 from camfab.arrays import Array
 
 if TYPE_CHECKING:
+    from camfab.curves.profile import Profile
     from camfab.geometry.plate import Contours
-    from camfab.geometry.profile import Profile
 
 #: Ends of lines and arcs closer than this (file units) meet, for the reader of the CUT layer:
 #: an arc's ends are recomputed from its centre, radius and angles, which for a nearly straight
@@ -126,7 +126,7 @@ def _readable(profile: Profile, gap: float) -> Profile:
     """*profile* without edges shorter than *gap* (mm): a reader drops them (a tiny nose arc),
     and the edges either side would no longer meet; the edge before now ends where the next
     begins, moved by at most the dropped edge's length."""
-    from camfab.geometry.profile import Profile
+    from camfab.curves.profile import Profile
 
     v = profile.vertices
     keep = np.hypot(*(np.roll(v, -1, axis=0) - v).T) > gap

@@ -17,8 +17,8 @@ import numpy as np
 
 from camfab.analysis.verification import StlCheck
 from camfab.arrays import Array
+from camfab.curves.sampling import arc_points
 from camfab.export.part import Cylinder, Difference, Extrusion, Mesh, Solid
-from camfab.geometry.sampling import arc_points
 
 if TYPE_CHECKING:
     from camfab.geometry.plate import Contours

@@ -14,7 +14,7 @@ from xml.sax.saxutils import escape
 import numpy as np
 
 from camfab.arrays import Array
-from camfab.geometry.profile import Profile
+from camfab.curves.profile import Profile
 
 if TYPE_CHECKING:
     from camfab.design import Design

@@ -15,7 +15,7 @@ import math
 import numpy as np
 
 from camfab.arrays import Array
-from camfab.geometry.profile import Profile
+from camfab.curves.profile import Profile
 
 #: The longest arc written (rad): a quarter circle. Longer arcs are ill-conditioned where a file
 #: gives an arc by its ends and radius (SVG): near half a circle a rounded radius moves the centre.

@@ -26,8 +26,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from camfab.arrays import Array
+from camfab.curves.profile import Profile
 from camfab.geometry.disc import DiscCam
-from camfab.geometry.profile import Profile
 from camfab.geometry.simulate import simulate
 
 if TYPE_CHECKING:

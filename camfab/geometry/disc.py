@@ -16,7 +16,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from camfab.arrays import Array
-from camfab.geometry.curves import (
+from camfab.curves.follower import FollowerGeometry
+from camfab.curves.plane import (
     CurvePoints,
     curve_from_frame,
     dot,
@@ -26,7 +27,6 @@ from camfab.geometry.curves import (
     signed_angle,
     unit,
 )
-from camfab.geometry.follower import FollowerGeometry
 
 
 @dataclass(frozen=True)

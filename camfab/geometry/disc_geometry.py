@@ -14,11 +14,11 @@ from typing import TYPE_CHECKING, Literal
 import numpy as np
 
 from camfab.arrays import Array, Index, Mask
-from camfab.geometry.curves import CurvePoints, offset_inward, signed_angle
+from camfab.curves.follower import FollowerGeometry
+from camfab.curves.plane import CurvePoints, offset_inward, signed_angle
+from camfab.curves.profile import MERGE_DISTANCE, Profile
+from camfab.curves.sampling import SAMPLING_SHARE, arc_points, sample_curve
 from camfab.geometry.disc import DiscCam, FaceLines
-from camfab.geometry.follower import FollowerGeometry
-from camfab.geometry.profile import MERGE_DISTANCE, Profile
-from camfab.geometry.sampling import SAMPLING_SHARE, arc_points, sample_curve
 from camfab.geometry.simulate import simulate
 from camfab.geometry.undercut import (
     KeepTest,

@@ -23,8 +23,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from camfab.arrays import Array, Mask
+from camfab.curves.plane import CurvePoints
+from camfab.curves.profile import Profile
 from camfab.geometry.arcfit import fit_arcs
-from camfab.geometry.curves import CurvePoints
 from camfab.geometry.disc import DiscCam
 from camfab.geometry.disc_geometry import (
     ANALYSIS_STEP,
@@ -38,7 +39,6 @@ from camfab.geometry.disc_geometry import (
     segment_tolerances,
 )
 from camfab.geometry.offset import quad_segments
-from camfab.geometry.profile import Profile
 from camfab.geometry.undercut import is_simple
 from camfab.motion.program import MotionProgram
 

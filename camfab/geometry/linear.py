@@ -51,11 +51,11 @@ import numpy as np
 import shapely
 
 from camfab.arrays import Array, Index, Mask
+from camfab.curves.plane import CurvePoints, perp, signed_angle
+from camfab.curves.profile import MERGE_DISTANCE, Profile
+from camfab.curves.sampling import SAMPLING_SHARE, arc_points, sample_curve
 from camfab.geometry.arcfit import fit_arcs
-from camfab.geometry.curves import CurvePoints, perp, signed_angle
 from camfab.geometry.disc_geometry import ANALYSIS_STEP, MIN_TOLERANCE_FACTOR, LiftCheck, Sampled
-from camfab.geometry.profile import MERGE_DISTANCE, Profile
-from camfab.geometry.sampling import SAMPLING_SHARE, arc_points, sample_curve
 from camfab.geometry.simulate import OffsetPieces
 from camfab.geometry.undercut import KeepTest, cut_away, is_simple, trim_loops
 from camfab.motion.program import MotionProgram, ProgramSegment

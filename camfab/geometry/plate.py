@@ -14,11 +14,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from camfab.curves.profile import Profile
 from camfab.design import Design
 from camfab.geometry.arcfit import fit_arcs
 from camfab.geometry.disc_geometry import DiscGeometry
 from camfab.geometry.offset import grow
-from camfab.geometry.profile import Profile
 
 #: Share of the export tolerance left to an offset's round joins and to the flattening of arcs
 #: before an offset; the arc fit that follows takes the rest.

@@ -2,7 +2,7 @@
 
 This is the independent check of the synthesis (design → profile → lift) and the engine of
 profile inspection. It knows nothing of motion laws: the cam is a contour of lines and arcs
-(:class:`~camfab.geometry.profile.Profile`) and the follower a shape on a path (a line for a
+(:class:`~camfab.curves.profile.Profile`) and the follower a shape on a path (a line for a
 translating follower, a circle about the pivot for an oscillating one). At each cam angle the
 follower is pressed onto the cam: its position is the farthest point of its path at which it
 still touches the cam, the largest over all the pieces it can touch.
@@ -24,9 +24,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from camfab.arrays import Array, Index, Mask
-from camfab.geometry.curves import perp
-from camfab.geometry.follower import FollowerGeometry
-from camfab.geometry.profile import Profile
+from camfab.curves.follower import FollowerGeometry
+from camfab.curves.plane import perp
+from camfab.curves.profile import Profile
 
 TWO_PI = 2.0 * math.pi
 

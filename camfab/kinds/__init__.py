@@ -34,6 +34,10 @@ class CamKind(Protocol):
     #: shaft (a linear cam slides).
     mounted: str | None
 
+    def check(self, design: Design) -> None:
+        """The rules of the design file that need the kind's geometry (raising
+        :class:`~camfab.design.rules.RuleViolation` like the design's own rules)."""
+
     def analyse(self, design: Design, program: MotionProgram, units: MotionUnits,
                 stats: list[SegmentStats], findings: list[Finding]) -> Analysis:
         """The analysis of *design*: the kind's geometry, numbers and checks, before the
@@ -69,3 +73,8 @@ def kind_of(cam_type: str) -> CamKind:
     module, _, name = REGISTRY[cam_type].partition(":")
     kind: CamKind = getattr(import_module(module), name or "KIND")
     return kind
+
+
+def check_design(design: Design) -> None:
+    """The rules of *design*'s kind that need its geometry (see :meth:`CamKind.check`)."""
+    kind_of(design.cam.type).check(design)

@@ -17,12 +17,12 @@ if TYPE_CHECKING:
     from camfab.analysis.kinematics import MotionUnits, SegmentStats
     from camfab.analysis.verification import Verification
     from camfab.arrays import Array
+    from camfab.curves.profile import Profile
     from camfab.design import Design
     from camfab.export.part import Drawing, Part, Solid
     from camfab.export.serialise import PartFiles
     from camfab.geometry.disc_geometry import DiscGeometry, LiftCheck
     from camfab.geometry.plate import Contours, Plate
-    from camfab.geometry.profile import Profile
     from camfab.motion.program import MotionProgram
 
 
@@ -225,11 +225,16 @@ def plate_verify(analysis: Analysis, part: Part, files: PartFiles) -> tuple[Anal
     return analysis, check
 
 
+def no_checks(design: Design) -> None:
+    """A kind whose design-file rules need none of its geometry."""
+
+
 class Disc:
     """The disc cam (``cam.type: disc``)."""
 
     drives_both_ways = False
     mounted = "plate"
+    check = staticmethod(no_checks)
     verify = staticmethod(plate_verify)
 
     @staticmethod

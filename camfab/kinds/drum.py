@@ -14,17 +14,18 @@ import numpy as np
 
 from camfab.analysis.record import TABLE_COLUMNS, Analysis, CamResult, terse
 from camfab.analysis.verification import Verification
+from camfab.kinds.disc import no_checks
 
 if TYPE_CHECKING:
     from camfab.analysis.drum_checks import DrumNumbers
     from camfab.analysis.findings import Finding
     from camfab.analysis.kinematics import MotionUnits, SegmentStats
     from camfab.arrays import Array
+    from camfab.curves.profile import Profile
     from camfab.design import Design
     from camfab.export.part import Drawing, Part
     from camfab.export.serialise import PartFiles
     from camfab.geometry.drum import DrumDense
-    from camfab.geometry.profile import Profile
     from camfab.motion.program import MotionProgram
 
 #: Cam-angle step at which the roller is run through a drum's groove read back from the STL.
@@ -131,6 +132,7 @@ class Drum:
 
     drives_both_ways = False
     mounted = "drum"
+    check = staticmethod(no_checks)
 
     @staticmethod
     def analyse(design: Design, program: MotionProgram, units: MotionUnits,
@@ -161,12 +163,12 @@ def drum_part(analysis: Analysis) -> Part:
     """The drum's part: the drum along Z from 0 to its length, the bore through and the groove
     subtracted once as one closed tube (withheld when the groove folds over itself); the groove
     developed at the surface as a drawing and a view (see :func:`_development_drawing`)."""
+    from camfab.curves.sampling import SAMPLING_SHARE
     from camfab.export.part import Cylinder, Difference, Mesh, Part
     from camfab.export.stl import circle_segments
     from camfab.geometry.arcfit import fit_arcs
     from camfab.geometry.drum_mesh import development, groove_tube
     from camfab.geometry.plate import Contours
-    from camfab.geometry.sampling import SAMPLING_SHARE
 
     design, dense = analysis.design, analysis.drum
     assert dense is not None
@@ -229,11 +231,11 @@ def drum_verify(analysis: Analysis, part: Part, files: PartFiles) -> Verificatio
     the groove folds, between the exact walls, to show how far the fold would throw it); the
     STL checked closed, outward and of the solid's volume; the developed walls of the DXF
     measured against the exact ones."""
+    from camfab.curves.sampling import SAMPLING_SHARE
     from camfab.export.dxf import read_cut_outline
     from camfab.export.stl import check_stl, read_stl
     from camfab.geometry.disc_geometry import LiftCheck
     from camfab.geometry.drum_mesh import development, groove_lift, row_points
-    from camfab.geometry.sampling import SAMPLING_SHARE
     from camfab.motion.program import cycle_angles
 
     design, dense = analysis.design, analysis.drum

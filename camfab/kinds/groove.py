@@ -30,12 +30,12 @@ if TYPE_CHECKING:
     from camfab.analysis.findings import Finding
     from camfab.analysis.kinematics import MotionUnits, SegmentStats
     from camfab.analysis.record import Analysis
+    from camfab.curves.profile import Profile
     from camfab.design import Design
     from camfab.export.part import Drawing, Part, Solid
     from camfab.export.serialise import PartFiles
     from camfab.geometry.groove import GrooveWalls
     from camfab.geometry.plate import Contours
-    from camfab.geometry.profile import Profile
     from camfab.motion.program import MotionProgram
 
 
@@ -96,7 +96,7 @@ def _drawing(analysis: Analysis, cut: Contours, toolpath: Contours | None,
 def _add_marks(drawing: Drawing, analysis: Analysis, scale: float) -> None:
     """The centre cross, the θ = 0 tick, and a tick across the groove wherever contact passes
     from one wall to the other."""
-    from camfab.geometry.curves import perp
+    from camfab.curves.plane import perp
 
     geom, walls = analysis.geometry, analysis.groove
     assert geom is not None and walls is not None
@@ -153,9 +153,9 @@ def _solid(analysis: Analysis, holes: Contours) -> Solid:
     (z = thickness) down to its floor: the band between the walls extruded from the floor to
     above the face and subtracted once. The walls are the tolerance-sampled chains, the circles
     cut into chords within the same tolerance."""
+    from camfab.curves.sampling import arc_points
     from camfab.export.part import Difference, Extrusion
     from camfab.export.stl import hole_points
-    from camfab.geometry.sampling import arc_points
 
     geom, walls = analysis.geometry, analysis.groove
     assert geom is not None and walls is not None
@@ -308,8 +308,8 @@ class GrooveResult(PlateResult):
 def _draw_groove(ax: Any, analysis: Analysis, walls: GrooveWalls) -> None:
     """A groove cam's plate: its outer circle, the groove shaded between its walls, where a
     wall folds, and a tick across the groove wherever contact passes to the other wall."""
+    from camfab.curves.plane import perp
     from camfab.export.figures import BAD, CHANGE, CUT, POCKET
-    from camfab.geometry.curves import perp
     from camfab.geometry.groove import WALL_NAMES
 
     geom = analysis.geometry
@@ -366,6 +366,22 @@ class Groove:
 
     part = staticmethod(groove_part)
     verify = staticmethod(groove_verify)
+
+    @staticmethod
+    def check(design: Design) -> None:
+        """The plate's ``outer_radius`` must leave a wall of material outside the groove's
+        outer wall."""
+        from camfab.design.rules import MIN_WALL_MM, fail, mm
+        from camfab.geometry.groove import outer_wall_reach
+
+        cam = design.cam
+        if cam.outer_radius is None:
+            return
+        reach = outer_wall_reach(design)
+        if cam.outer_radius < reach + MIN_WALL_MM:
+            fail(("cam", "outer_radius"), f"must leave at least {MIN_WALL_MM:g} mm of material "
+                 f"outside the groove: its outer wall reaches {mm(reach)} from the cam centre "
+                 f"(outer_radius at least {mm(reach + MIN_WALL_MM)})")
 
 
 KIND = Groove()

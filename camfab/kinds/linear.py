@@ -19,6 +19,7 @@ import numpy as np
 
 from camfab.analysis.record import TABLE_COLUMNS, Analysis, CamResult, terse
 from camfab.analysis.verification import Verification
+from camfab.kinds.disc import no_checks
 from camfab.kinds.readback import against_cut, read_part
 
 if TYPE_CHECKING:
@@ -27,11 +28,11 @@ if TYPE_CHECKING:
     from camfab.analysis.linear_checks import LinearNumbers
     from camfab.analysis.verification import StlCheck
     from camfab.arrays import Array
+    from camfab.curves.profile import Profile
     from camfab.design import Design
     from camfab.export.part import Drawing, Part
     from camfab.export.serialise import PartFiles
     from camfab.geometry.linear import LinearGeometry
-    from camfab.geometry.profile import Profile
     from camfab.motion.program import MotionProgram
 
 
@@ -266,6 +267,7 @@ class Linear:
 
     drives_both_ways = False
     mounted = None
+    check = staticmethod(no_checks)
 
     @staticmethod
     def analyse(design: Design, program: MotionProgram, units: MotionUnits,

@@ -20,7 +20,7 @@ import numpy as np
 from camfab.analysis.verification import Verification
 from camfab.geometry.conjugate import hold, made_geometry, to_made_frame
 from camfab.geometry.disc_geometry import VERIFY_STEP, LiftCheck
-from camfab.kinds.disc import PlateResult, analyse_plate
+from camfab.kinds.disc import PlateResult, analyse_plate, no_checks
 from camfab.kinds.readback import against_cut, read_back, verify_plate
 from camfab.motion.program import cycle_angles
 
@@ -229,6 +229,7 @@ class ConstantBreadth:
 
     drives_both_ways = True
     mounted = "plate"
+    check = staticmethod(no_checks)
 
     @staticmethod
     def analyse(design: Design, program: MotionProgram, units: MotionUnits,
@@ -265,6 +266,43 @@ class Conjugate:
     drives_both_ways = True
     mounted = "plate"
     part = staticmethod(pair_part)
+
+    @staticmethod
+    def check(design: Design) -> None:
+        """Cam b must have a base circle around the bore, and an oscillating pair's arm b must
+        stay short of 180° from the line of centres with the pivot outside both cams."""
+        from camfab.design.rules import MIN_WALL_MM, fail, mm
+        from camfab.geometry.conjugate import partner_base_radius
+        from camfab.geometry.disc_geometry import disc_cam
+
+        program = design.program
+        cam_a = disc_cam(design)
+        need = max(MIN_WALL_MM, (design.cam.bore or 0.0) / 2.0 + MIN_WALL_MM)
+        base_b = partner_base_radius(design, cam_a)
+        if design.follower.oscillating:
+            if base_b < need:
+                fail(("follower", "arm_angle"), "leaves cam b no base circle around the bore (cam "
+                     f"b's base radius would be {mm(base_b)}, at least {mm(need)} is needed): "
+                     "open the angle between the arms")
+            swing = math.degrees(cam_a.rest + program.max_lift)
+            if math.degrees(design.follower.arm_angle or 0.0) - math.degrees(cam_a.rest) >= 180.0:
+                fail(("follower", "arm_angle"), f"arm b would pass 180° from the line of centres "
+                     f"(arm a turns from {math.degrees(cam_a.rest):.4g}° to {swing:.4g}°)")
+            fol = cam_a.follower
+            top = (design.follower.arm_angle or 0.0) - cam_a.rest
+            reach = math.sqrt(fol.pivot_distance**2 + fol.arm_length**2 - 2 * fol.pivot_distance
+                              * fol.arm_length * math.cos(top)) - fol.radius
+            if reach >= fol.pivot_distance:
+                fail(("follower", "arm_angle"), f"cam b would reach {mm(reach)} from its centre, "
+                     "past the pivot: the pivot must lie outside both cams")
+            return
+        if base_b < need:
+            reach = need + cam_a.follower.radius
+            least = (cam_a.rest + program.max_lift
+                     + math.sqrt(max(reach * reach - cam_a.follower.offset ** 2, 0.0)))
+            fail(("follower", "roller_spacing"), "leaves cam b no base circle around the bore "
+                 f"(cam b's base radius would be {mm(base_b)}, at least {mm(need)} is needed): "
+                 f"the rollers must be at least {mm(least)} apart")
 
     @staticmethod
     def analyse(design: Design, program: MotionProgram, units: MotionUnits,

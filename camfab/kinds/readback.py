@@ -22,11 +22,11 @@ from camfab.geometry.disc_geometry import LiftCheck
 
 if TYPE_CHECKING:
     from camfab.analysis.record import Analysis
+    from camfab.curves.profile import Profile
     from camfab.design import Design
     from camfab.export.serialise import PartFiles
     from camfab.geometry.disc_geometry import DiscGeometry
     from camfab.geometry.plate import Plate
-    from camfab.geometry.profile import Profile
     from camfab.motion.program import MotionProgram
 
 def against_cut(written: LiftCheck, cut: LiftCheck, tolerance: float) -> LiftCheck:
@@ -37,7 +37,7 @@ def against_cut(written: LiftCheck, cut: LiftCheck, tolerance: float) -> LiftChe
     Where the cut cam follows the design (its lift within the sampling share of *tolerance*,
     mm, of the design's), the design's motion is the reference, as for any cam; where the
     undercut takes it further, the cut cam's motion is."""
-    from camfab.geometry.sampling import SAMPLING_SHARE
+    from camfab.curves.sampling import SAMPLING_SHARE
 
     departs = np.abs(cut.error_mm) > SAMPLING_SHARE * tolerance
     return LiftCheck(written.theta, written.error - np.where(departs, cut.error, 0.0),
@@ -117,7 +117,7 @@ def read_back(design: Design, geom: DiscGeometry, program: MotionProgram, dxf: b
     """Read a plate cam's CUT outline back from *dxf* (see :func:`read_part`) and run the
     follower of *geom* through *program* over it; *move* takes the outline from the frame the
     file draws it in to the frame of *geom* (a conjugate pair's cam b)."""
-    from camfab.geometry.curves import offset_inward
+    from camfab.curves.plane import offset_inward
     from camfab.geometry.disc_geometry import lift_check
 
     written, part, source = read_part(dxf, design.mm_per_unit, kerf, geom.tolerance, file_name,

@@ -8,7 +8,13 @@ from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Any
 
 from camfab.analysis.record import terse
-from camfab.kinds.disc import PlateResult, analyse_plate, plate_part, plate_verify
+from camfab.kinds.disc import (
+    PlateResult,
+    analyse_plate,
+    no_checks,
+    plate_part,
+    plate_verify,
+)
 
 if TYPE_CHECKING:
     from camfab.analysis.findings import Finding
@@ -70,6 +76,7 @@ class Shaped:
 
     drives_both_ways = False
     mounted = "plate"
+    check = staticmethod(no_checks)
     verify = staticmethod(plate_verify)
 
     @staticmethod

@@ -14,8 +14,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from camfab.arrays import Array, Index
-from camfab.geometry.curves import cross
-from camfab.geometry.sampling import arc_points
+from camfab.curves.plane import cross
+from camfab.curves.sampling import arc_points
 
 #: Two consecutive vertices closer than this (mm) are one point: far below any tolerance and far
 #: above the rounding of coordinates of cams up to metres in size.

@@ -12,12 +12,29 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Literal
-
-if TYPE_CHECKING:
-    from camfab.design import Design
+from typing import Literal, Protocol
 
 Contact = Literal["knife", "roller", "flat", "mushroom"]
+
+
+class FollowerSpec(Protocol):
+    """What the design file says of a follower (``camfab.design``'s follower model, mm)."""
+
+    type: Contact
+    oscillating: bool
+    trace_radius: float
+    offset: float
+    pivot_distance: float | None
+    arm_length: float | None
+    pivot_side: str
+    face_offset: float
+
+
+class HasFollower(Protocol):
+    """A design: anything with a :class:`FollowerSpec` as its ``follower``."""
+
+    @property
+    def follower(self) -> FollowerSpec: ...
 
 
 @dataclass(frozen=True)
@@ -56,7 +73,8 @@ class FollowerGeometry:
         return self.contact == "flat"
 
     @classmethod
-    def from_design(cls, design: Design) -> FollowerGeometry:
+    def from_design(cls, design: HasFollower) -> FollowerGeometry:
+        """The follower of *design* (a :class:`camfab.design.Design`)."""
         fol = design.follower
         return cls(
             contact=fol.type,

@@ -14,7 +14,7 @@ from collections.abc import Callable
 import numpy as np
 
 from camfab.arrays import Array
-from camfab.geometry.curves import CurvePoints
+from camfab.curves.plane import CurvePoints
 
 #: The share of ``manufacturing.tolerance`` spent on sampling the exact curves. The rest is left
 #: for the exporters (arc fitting, rounding), and it keeps the lift error of a follower on the

@@ -14,7 +14,7 @@ where the outline's common normal at their joint points at it: a flat face when 
 +Y, a circle when its centre, r along the normal from the joint, lies on +Y. A flat face never
 rides a line (it meets the whole line at one instant), so a line gives it no segment.
 
-This serves cams drawn from their shape (:mod:`camfab.geometry.shaped`): a convex outline,
+This serves cams drawn from their shape (:mod:`camfab.curves.shaped`): a convex outline,
 tangent-continuous, drawn for a counter-clockwise cam at θ = 0 with the follower about to
 leave the base circle. A clockwise cam is its mirror image and moves the follower the same way.
 """
@@ -29,7 +29,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from camfab.arrays import Array
-from camfab.geometry.shaped import Piece
+from camfab.curves.shaped import Piece
 from camfab.motion.law import Law, as_unit_array
 from camfab.motion.laws import DWELL
 from camfab.motion.program import TWO_PI, MotionProgram, ProgramSegment

@@ -22,8 +22,8 @@ from typing import Literal
 import numpy as np
 
 from camfab.arrays import Array
-from camfab.geometry.curves import rotate
-from camfab.geometry.profile import Profile
+from camfab.curves.plane import rotate
+from camfab.curves.profile import Profile
 
 ShapeKind = Literal["circular-arc", "tangent"]
 
