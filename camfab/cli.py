@@ -19,9 +19,8 @@ from camfab import __version__
 from camfab.batch import PROGRESS_FROM, Outcome
 
 if TYPE_CHECKING:
-    from camfab.analysis.inspection import Inspection
     from camfab.analysis.record import Analysis
-    from camfab.inspection import InspectOptions
+    from camfab.inspect import Inspection, InspectOptions
 
 STARTER_KINDS = ("disc-roller", "disc-knife", "disc-flat", "disc-mushroom", "oscillating",
                  "oscillating-flat", "cylindrical", "circular-arc", "tangent", "groove",
@@ -271,7 +270,7 @@ def inspect(profile: Path, design: Path | None, follower_file: Path | None, kind
     given = {"type": kind, "roller_radius": roller_radius, "face_radius": face_radius,
              "offset": offset, "pivot_distance": pivot_distance, "arm_length": arm_length,
              "pivot_side": pivot_side, "face_offset": face_offset}
-    from camfab.inspection import InspectOptions
+    from camfab.inspect import InspectOptions
 
     options = InspectOptions(
         profile, design, follower_file, {k: v for k, v in given.items() if v is not None},
@@ -280,7 +279,7 @@ def inspect(profile: Path, design: Path | None, follower_file: Path | None, kind
 
 
 def _inspect_one(options: InspectOptions) -> Outcome:
-    from camfab.inspection import inspect as run_inspection
+    from camfab.inspect import inspect as run_inspection
 
     result = run_inspection(options)
     ins = result.inspection
@@ -367,8 +366,7 @@ def _build_one(path: str, out_dir: Path | None) -> Outcome:
 
 def _check_one(path: str) -> Outcome:
     def work() -> Outcome:
-        from camfab.pipeline import load_design
-        from camfab.pipeline import analyse
+        from camfab.pipeline import analyse, load_design
         from camfab.report_text import print_summary
 
         analysis = analyse(load_design(path))

@@ -28,6 +28,9 @@ class CamResult:
     numbers: Any
     #: The heading of the report's drawing.
     drawing_title = "The cam at θ = 0"
+    #: ``camfab inspect`` with another follower runs it over the working curve sampled finer
+    #: than the cam's outline (a disc cam's), rather than over the outline as computed.
+    refine_for_inspection = False
 
     def kind_name(self, design: Design) -> str:
         """What the cam is called in a sentence ("disc cam")."""

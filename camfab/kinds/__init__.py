@@ -34,6 +34,9 @@ class CamKind(Protocol):
     #: shaft (a linear cam slides).
     mounted: str | None
 
+    #: Why ``camfab inspect`` cannot hold a made part of this kind to its design (None: it can).
+    inspect_refusal: str | None
+
     def check(self, design: Design) -> None:
         """The rules of the design file that need the kind's geometry (raising
         :class:`~camfab.design.rules.RuleViolation` like the design's own rules)."""

@@ -33,6 +33,7 @@ class PlateResult(CamResult):
 
     geometry: DiscGeometry
     numbers: CamNumbers
+    refine_for_inspection = True
 
     def report_geometry(self, analysis: Analysis) -> dict[str, Any]:
         from camfab.analysis.cam_checks import offset_side
@@ -234,6 +235,7 @@ class Disc:
 
     drives_both_ways = False
     mounted = "plate"
+    inspect_refusal = None
     check = staticmethod(no_checks)
     verify = staticmethod(plate_verify)
 

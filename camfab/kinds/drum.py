@@ -133,6 +133,7 @@ class Drum:
     drives_both_ways = False
     mounted = "drum"
     check = staticmethod(no_checks)
+    inspect_refusal = "is a drum (cylindrical) cam; inspection checks the outline of a disc cam"
 
     @staticmethod
     def analyse(design: Design, program: MotionProgram, units: MotionUnits,

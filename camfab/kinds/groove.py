@@ -260,6 +260,7 @@ class GrooveResult(PlateResult):
     """A plate cam's result (its working curve the inner wall) with the groove's walls."""
 
     groove: GrooveWalls
+    refine_for_inspection = False
 
     def report_geometry(self, analysis: Analysis) -> dict[str, Any]:
         return {**super().report_geometry(analysis), **self.groove.report_geometry()}
@@ -348,6 +349,8 @@ class Groove:
 
     drives_both_ways = True
     mounted = "plate"
+    inspect_refusal = ("is a groove cam; inspection checks the outline of a disc cam, not a "
+                       "groove's two walls")
 
     @staticmethod
     def analyse(design: Design, program: MotionProgram, units: MotionUnits,

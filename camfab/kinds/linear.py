@@ -268,6 +268,8 @@ class Linear:
     drives_both_ways = False
     mounted = None
     check = staticmethod(no_checks)
+    inspect_refusal = ("a linear cam has no disc geometry in this version of camfab to inspect "
+                       "against")
 
     @staticmethod
     def analyse(design: Design, program: MotionProgram, units: MotionUnits,

@@ -126,6 +126,7 @@ class PairResult(PlateResult):
     cam b, or a constant-breadth cam's own outline half a turn on."""
 
     partner: Partner
+    refine_for_inspection = False
 
     def report_geometry(self, analysis: Analysis) -> dict[str, Any]:
         return {**super().report_geometry(analysis), **self.partner.report_geometry()}
@@ -229,6 +230,7 @@ class ConstantBreadth:
 
     drives_both_ways = True
     mounted = "plate"
+    inspect_refusal = None
     check = staticmethod(no_checks)
 
     @staticmethod
@@ -265,6 +267,7 @@ class Conjugate:
 
     drives_both_ways = True
     mounted = "plate"
+    inspect_refusal = None
     part = staticmethod(pair_part)
 
     @staticmethod

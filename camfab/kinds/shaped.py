@@ -32,6 +32,7 @@ class ShapedResult(PlateResult):
     """A plate cam's result with its shape's numbers (radii, centres, key points)."""
 
     shape: ShapeNumbers
+    refine_for_inspection = False
 
     def report_geometry(self, analysis: Analysis) -> dict[str, Any]:
         shape = self.shape
@@ -77,6 +78,7 @@ class Shaped:
     drives_both_ways = False
     mounted = "plate"
     check = staticmethod(no_checks)
+    inspect_refusal = None
     verify = staticmethod(plate_verify)
 
     @staticmethod

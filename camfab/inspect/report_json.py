@@ -15,11 +15,11 @@ import numpy as np
 
 from camfab import __version__
 from camfab.analysis.findings import count
-from camfab.analysis.inspection import Inspection
 from camfab.analysis.kinematics import MotionUnits
+from camfab.inspect.record import Inspection
 
 if TYPE_CHECKING:
-    from camfab.inspection import Prepared
+    from camfab.inspect.options import Prepared
 
 #: How the derivatives are obtained, for the reports.
 METHOD = ("velocity and acceleration are the derivatives of the measured lift: a cubic fitted by "

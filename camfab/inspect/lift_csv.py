@@ -7,16 +7,16 @@ oscillating follower); with a speed ``velocity_m_s`` and ``acceleration_m_s2``
 straight); and with a design ``design_lift_mm`` and ``deviation_mm`` (measured − design;
 oscillating: ``design_lift_deg``, ``deviation_deg`` and ``deviation_mm`` at the trace point).
 Velocities and accelerations are the derivatives of the measured lift (see
-:mod:`camfab.analysis.inspection` for how and their limits).
+:mod:`camfab.inspect.measure` for how and their limits).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from camfab.analysis.inspection import Inspection
 from camfab.analysis.kinematics import MotionUnits
 from camfab.export.motion_csv import csv_bytes
+from camfab.inspect.record import Inspection
 
 
 def lift_table(ins: Inspection) -> tuple[list[str], np.ndarray]:

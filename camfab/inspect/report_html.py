@@ -13,11 +13,11 @@ from typing import TYPE_CHECKING, Any
 
 from camfab import __version__
 from camfab.analysis.findings import Finding, count
-from camfab.analysis.inspection import Inspection
 from camfab.export.report_html import num, page_template, where
+from camfab.inspect.record import Inspection
 
 if TYPE_CHECKING:
-    from camfab.inspection import Prepared
+    from camfab.inspect.options import Prepared
 
 
 def _numbers(data: dict[str, Any]) -> list[tuple[str, str]]:
@@ -41,8 +41,8 @@ def _numbers(data: dict[str, Any]) -> list[tuple[str, str]]:
 
 def render_inspection_html(ins: Inspection, prepared: Prepared) -> bytes:
     """The report page as UTF-8 bytes."""
-    from camfab.export import inspection_figures as figures
-    from camfab.export.inspection_json import inspection_dict
+    from camfab.inspect import figures
+    from camfab.inspect.report_json import inspection_dict
 
     data = inspection_dict(ins, prepared)
     fol = ins.setup.follower

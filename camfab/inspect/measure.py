@@ -1,5 +1,5 @@
-"""Inspection of a made or scanned cam: the follower run over its outline, the motion that gives,
-and its deviation from the design.
+"""The follower run over an outline: the motion it measures and its derivatives, the turn into
+phase with the design, and the base circle lift is measured from.
 
 The follower is pressed onto the outline at every step of a fine grid of cam angles
 (:func:`~camfab.geometry.simulate.simulate`, the same engine that verifies camfab's own files);
@@ -22,22 +22,18 @@ the exact evaluators of :class:`~camfab.geometry.disc.DiscCam`.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
-from dataclasses import dataclass, field, replace
-from typing import TYPE_CHECKING
+from dataclasses import replace
 
 import numpy as np
 
-from camfab.analysis.findings import Finding, exit_status
-from camfab.angles import Range, ranges_deg
-from camfab.arrays import Array, Index, Mask
+from camfab.angles import ranges_deg
+from camfab.arrays import Array, Index
 from camfab.curves.follower import FollowerGeometry
 from camfab.curves.profile import Profile
 from camfab.errors import InspectionError
 from camfab.geometry.disc import DiscCam
-
-if TYPE_CHECKING:
-    from camfab.analysis.record import Analysis
+from camfab.inspect.checks import inspection_findings
+from camfab.inspect.record import Inspection, InspectionSetup, Reference
 
 #: Largest cam-angle step of the grid the follower is run on: 0.1°, like the verification of
 #: camfab's files; a bump of a few tenths of a millimetre along the outline still spans steps.
@@ -49,14 +45,6 @@ INSPECT_STEP = math.radians(0.1)
 SMOOTH_DRAWING = math.radians(1.0)
 SMOOTH_POINTS = math.radians(3.0)
 
-#: The design's working curve is sampled this many times finer than its tolerance to be the
-#: reference a different follower is run over: chords of a convex curve lie inside it, and at
-#: the design's own sampling they would shift the reference by up to half the tolerance.
-REFERENCE_REFINEMENT = 64.0
-
-#: Peaks of |deviation| listed per excursion over the tolerance in the reports.
-MAX_EXCURSIONS = 50
-
 #: Most (piece, cam angle) pairs one run of the follower over an outline may try: some two
 #: seconds of work. A smooth outline needs a few per piece (100,000 points on a circle: some
 #: 10,000); only an outline of long spikes about the centre (a star, random points) needs more.
@@ -65,149 +53,6 @@ MAX_PAIRS = 10_000_000
 #: The alignment's trial turns compare the motion at every this many angles of the grid (0.4°):
 #: a least-squares fit over 900 angles, at a quarter of the cost of each trial.
 ALIGN_THINNING = 4
-
-
-@dataclass(frozen=True)
-class InspectionSetup:
-    """How to inspect: the follower and the cam's turning, all lengths in mm, angles in rad.
-
-    Attributes
-    ----------
-    follower
-        The inspection follower (it may differ from the design's, e.g. a dial indicator's roller).
-    sigma
-        +1 for a counter-clockwise cam, −1 for clockwise.
-    omega
-        Speed (rad/s) for velocities and accelerations; None: per radian of cam angle only.
-    tolerance
-        Largest |deviation| (mm at the trace point) accepted; None without a design.
-    step
-        Cam-angle step of the lift table's rows.
-    smooth
-        Half-width of the window the derivatives are fitted over.
-    pressure_angle_limit
-        The limit the pressure angle is reported against.
-    """
-
-    follower: FollowerGeometry
-    sigma: int
-    omega: float | None
-    tolerance: float | None
-    step: float
-    smooth: float
-    pressure_angle_limit: float
-
-
-@dataclass(frozen=True)
-class Reference:
-    """The design's motion for the inspection follower.
-
-    ``position(theta)`` is the trace point's height (mm) or arm angle (rad) at cam angles θ;
-    ``base_radius`` the design's base circle (mm); ``source`` says how the position is found.
-    """
-
-    position: Callable[[Array], Array]
-    base_radius: float
-    source: str
-    name: str
-    profile: Profile
-
-
-@dataclass(frozen=True)
-class Excursion:
-    """A run of cam angles where |deviation| exceeds the tolerance, and its worst point."""
-
-    start_deg: float
-    end_deg: float
-    peak_mm: float
-    peak_at_deg: float
-
-
-@dataclass(frozen=True)
-class Inspection:
-    """The follower run over an outline, on a fine grid of cam angles ``theta`` (rad).
-
-    Motion arrays are in mm (translating) or rad of swing (oscillating), derivatives per radian
-    of cam angle: ``motion`` is (4, N) s, s′, s″ and zeros (s‴ is not estimated).
-    ``deviation`` is measured minus design (positive: the follower rides higher than the design
-    would lift it, material left on), ``deviation_mm`` the same at the trace point.
-    """
-
-    setup: InspectionSetup
-    profile: Profile
-    theta: Array
-    rows: Index
-    position: Array
-    rest: float
-    base_radius: float
-    measured_base_radius: float
-    motion: Array
-    pressure_angle: Array
-    pitch_radius: Array
-    contact: Array
-    reference: Reference | None = None
-    design_lift: Array | None = None
-    deviation: Array | None = None
-    deviation_mm: Array | None = None
-    align: float | None = None
-    findings: list[Finding] = field(default_factory=list)
-    lift_from: str = "the outline's smallest radius (its base circle)"
-
-    @property
-    def oscillating(self) -> bool:
-        return self.setup.follower.oscillating
-
-    @property
-    def lift(self) -> Array:
-        return self.motion[0]
-
-    @property
-    def exit_code(self) -> int:
-        return exit_status(self.findings)
-
-    def max_deviation(self) -> tuple[float, float] | None:
-        """Largest |deviation| (mm at the trace point) and the cam angle (deg) where it is."""
-        if self.deviation_mm is None:
-            return None
-        k = int(np.argmax(np.abs(self.deviation_mm)))
-        return float(abs(self.deviation_mm[k])), float(np.degrees(self.theta[k]))
-
-    def rms_deviation(self) -> float | None:
-        """Root mean square of the deviation over the turn (mm at the trace point)."""
-        if self.deviation_mm is None:
-            return None
-        return float(np.sqrt(np.mean(self.deviation_mm**2)))
-
-    def on_outline(self, theta_deg: float) -> tuple[float, float]:
-        """Where the follower touches the cam at cam angle *theta_deg*: the contact point (mm) in
-        the outline's frame as read (centred, before any alignment turn) — where to look on the
-        part."""
-        k = int(np.argmin(np.abs(np.degrees(self.theta) - theta_deg)))
-        x, y = self.contact[k]
-        if self.align:
-            c, s = math.cos(self.setup.sigma * self.align), math.sin(self.setup.sigma * self.align)
-            x, y = c * x + s * y, -s * x + c * y
-        return float(x), float(y)
-
-    def excursions(self) -> list[Excursion]:
-        """Where |deviation| exceeds the tolerance, each run with its peak (largest first)."""
-        if self.deviation_mm is None or self.setup.tolerance is None:
-            return []
-        over = np.abs(self.deviation_mm) > self.setup.tolerance
-        out = []
-        for start, end in ranges_deg(self.theta, over):
-            inside = _in_range(np.degrees(self.theta), (start, end))
-            k = int(np.flatnonzero(inside)[np.argmax(np.abs(self.deviation_mm[inside]))])
-            out.append(Excursion(start, end, float(self.deviation_mm[k]),
-                                 float(np.degrees(self.theta[k]))))
-        return sorted(out, key=lambda e: -abs(e.peak_mm))[:MAX_EXCURSIONS]
-
-
-def _in_range(deg: Array, r: Range) -> Mask:
-    start, end = r
-    if start <= end:
-        return (deg >= start - 1e-9) & (deg <= end + 1e-9)
-    return (deg >= start - 1e-9) | (deg <= end + 1e-9)
 
 
 def grid(step: float) -> tuple[Array, Index]:
@@ -378,80 +223,3 @@ def _base_under(follower: FollowerGeometry, lowest: float) -> float:
     if follower.flat:
         return a * math.sin(lowest) - follower.face_offset
     return math.sqrt(max(a * a + arm * arm - 2.0 * a * arm * math.cos(lowest), 0.0)) - r
-
-
-def inspection_findings(ins: Inspection) -> list[Finding]:
-    """The deviation against the tolerance (an error: it fails the inspection) and the pressure
-    angle against its limit (a warning: the part is as designed or not, whatever its φ)."""
-    from camfab.angles import degrees
-
-    findings = []
-    worst = ins.max_deviation()
-    tolerance = ins.setup.tolerance
-    if worst is not None and tolerance is not None:
-        value, at = worst
-        ranges = tuple((e.start_deg, e.end_deg) for e in sorted(ins.excursions(),
-                                                                key=lambda e: e.start_deg))
-        ok = value <= tolerance
-        rms = ins.rms_deviation()
-        text = (f"the follower deviates {value:.3g} mm at most from the design motion (at "
-                f"{at:.4g}°), RMS {rms:.3g} mm, tolerance {tolerance:.3g} mm")
-        if not ok:
-            text += f"; over the tolerance at {', '.join(_range_text(r) for r in ranges[:6])}°"
-            if len(ranges) > 6:
-                text += f" and {len(ranges) - 6} more range(s)"
-        findings.append(Finding("deviation", ok, "error", text, value, tolerance, "mm", ranges))
-    phi = np.abs(ins.pressure_angle)
-    limit = ins.setup.pressure_angle_limit
-    k = int(np.argmax(phi))
-    over = phi > limit
-    findings.append(Finding(
-        "pressure_angle", not bool(over.any()), "warning",
-        f"the pressure angle of the measured motion reaches {math.degrees(phi[k]):.3g}° at "
-        f"{degrees(float(ins.theta[k])):.4g}° (limit {math.degrees(limit):.3g}°)",
-        math.degrees(float(phi[k])), math.degrees(limit), "deg", ranges_deg(ins.theta, over)))
-    return findings
-
-
-def _range_text(r: Range) -> str:
-    return f"{r[0]:.4g}" if abs(r[1] - r[0]) < 1e-9 else f"{r[0]:.4g}–{r[1]:.4g}"
-
-
-def design_reference(analysis: Analysis, follower: FollowerGeometry) -> Reference:
-    """The design's motion for *follower*.
-
-    For the design's own follower on a cam that is not undercut this is the design motion itself
-    (rest position + s(θ), exact). For another follower (say an inspection roller of another
-    radius), or an undercut cam, it is that follower run over the design's cam: the exact working
-    curve sampled :data:`REFERENCE_REFINEMENT` times finer than the design's tolerance, or the
-    undercut cam's trimmed profile as built.
-    """
-    from camfab.geometry.disc_geometry import sample_closed
-
-    design, geom = analysis.design, analysis.geometry
-    if geom is None:
-        raise InspectionError(design.source or design.name,
-                              f"a {design.cam.type} cam has no disc outline to inspect")
-    program, cam = analysis.program, geom.cam
-    name = design.name
-    if follower == cam.follower and not geom.undercut:
-        rest = cam.rest
-
-        def exact(theta: Array) -> Array:
-            return rest + program.evaluate(theta)[0]
-
-        return Reference(exact, cam.base_radius, f"the design motion of {name}", name,
-                         geom.profile)
-    profile = geom.profile
-    source = f"the inspection follower run over {name}'s cam as cut (undercut trimmed)"
-    if design.cam.type == "disc" and not geom.undercut:
-        fine = sample_closed(cam, program, "working", geom.tolerance / REFERENCE_REFINEMENT)
-        profile = Profile.from_points(fine.xy).ccw()
-        source = (f"the inspection follower run over {name}'s exact profile (sampled within "
-                  f"{geom.tolerance / REFERENCE_REFINEMENT:.2g} mm)")
-    sigma = cam.sigma
-
-    def simulated(theta: Array) -> Array:
-        return run_follower(profile, follower, theta, sigma, f"the design's cam ({name})")
-
-    return Reference(simulated, cam.base_radius, source, name, profile)

@@ -1,5 +1,6 @@
-"""The inspection report's figures as inline SVG, drawn like the build report's (``figures``,
-through :mod:`camfab.export.chart`), lengths in mm, angles in degrees.
+"""The inspection report's figures as inline SVG, drawn like the build report's
+(:mod:`camfab.export.figures`, through :mod:`camfab.export.chart`), lengths in mm, angles in
+degrees.
 """
 
 from __future__ import annotations
@@ -8,7 +9,6 @@ import math
 
 import numpy as np
 
-from camfab.analysis.inspection import Inspection
 from camfab.export.chart import Axes, Figure
 from camfab.export.figures import (
     BAD,
@@ -21,6 +21,7 @@ from camfab.export.figures import (
     clip_radii,
     panel_stack,
 )
+from camfab.inspect.record import Inspection
 
 #: Colour of the magnified deviation drawn along the outline.
 MAGNIFIED = "#8e44ad"
