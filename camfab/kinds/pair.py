@@ -136,17 +136,6 @@ class PairResult(PlateResult):
                 "spring: the forces on either side are in geometry (load_changes, "
                 "max_..._force_N)")
 
-    def table_columns(self, theta: Array, motion: Array) -> list[tuple[str, Array]]:
-
-        columns = super().table_columns(theta, motion)
-        partner = self.partner
-        if partner.geometry is not None and partner.program is not None:
-            cam_b, s_b = partner.geometry.cam, partner.program.evaluate(theta)
-            columns += [("pressure_angle_b_deg", np.degrees(cam_b.pressure_angle(theta, s_b))),
-                        ("pitch_b_radius_of_curvature_mm", cam_b.pitch(theta, s_b).radius),
-                        ("profile_b_radius_of_curvature_mm", cam_b.working(theta, s_b).radius)]
-        return columns
-
     def summary(self, analysis: Analysis) -> list[str]:
         lines = super().summary(analysis)
         partner = self.partner
@@ -162,7 +151,9 @@ class PairResult(PlateResult):
         return lines
 
     def draw_other_side(self, ax: Any, analysis: Analysis) -> None:
-        _draw_partner(ax, analysis, self.partner)
+        """The yoke's other face or roller, at θ = 0."""
+        trace = _trace(analysis)
+        _draw_second(ax, analysis, trace - np.array([0.0, self.partner.spacing]), trace)
 
     def contact_changes(self, report: dict[str, Any]) -> dict[str, Any] | None:
         from camfab.export.report_html import num
@@ -179,27 +170,51 @@ class PairResult(PlateResult):
                          for c in geometry["load_changes"]]}
 
 
-def _draw_partner(ax: Any, analysis: Analysis, partner: Partner) -> None:
-    """What holds the follower on the other side, at θ = 0: a conjugate pair's cam b (turned
-    into the frame it is made in) with its roller, or a yoke's other face or roller."""
-    from camfab.export.figures import CUT, FOLLOWER
+@dataclass(frozen=True)
+class ConjugateResult(PairResult):
+    """A conjugate pair's result: cam a's, with cam b (its geometry, motion and numbers) in
+    ``partner``."""
 
-    geom = analysis.geometry
-    cam = geom.cam
-    fol = cam.follower
-    trace = cam.trace(analysis.program.evaluate(np.zeros(1)))[0][0]
-    other = trace - np.array([0.0, partner.spacing])
-    if partner.geometry is not None and partner.program is not None:
+    def table_columns(self, theta: Array, motion: Array) -> list[tuple[str, Array]]:
+        """Cam a's columns, then cam b's (``..._b_...``)."""
+        partner = self.partner
+        assert partner.geometry is not None and partner.program is not None
+        cam_b, s_b = partner.geometry.cam, partner.program.evaluate(theta)
+        return [*super().table_columns(theta, motion),
+                ("pressure_angle_b_deg", np.degrees(cam_b.pressure_angle(theta, s_b))),
+                ("pitch_b_radius_of_curvature_mm", cam_b.pitch(theta, s_b).radius),
+                ("profile_b_radius_of_curvature_mm", cam_b.working(theta, s_b).radius)]
+
+    def draw_other_side(self, ax: Any, analysis: Analysis) -> None:
+        """Cam b (turned into the frame it is made in) with its roller, at θ = 0."""
+        from camfab.export.figures import CUT
         from camfab.geometry.conjugate import half_turned, mirrored
 
+        partner = self.partner
+        assert partner.geometry is not None and partner.program is not None
         cam_b = partner.geometry.cam
-        other = cam_b.trace(partner.program.evaluate(np.zeros(1)))[0][0]
         move = mirrored if partner.mirror else half_turned
-        other = move(other)
+        other = move(cam_b.trace(partner.program.evaluate(np.zeros(1)))[0][0])
         ring = move(partner.geometry.outline_points())
         ring = np.vstack((ring, ring[:1]))
         ax.plot(ring[:, 0], ring[:, 1], color=CUT, linewidth=1.0, linestyle="--",
                 label="cam b (behind cam a)")
+        _draw_second(ax, analysis, other, _trace(analysis))
+
+
+def _trace(analysis: Analysis) -> Array:
+    """The follower's trace point at θ = 0 (mm)."""
+    cam = analysis.result.geometry.cam
+    return cam.trace(analysis.program.evaluate(np.zeros(1)))[0][0]
+
+
+def _draw_second(ax: Any, analysis: Analysis, other: Array, trace: Array) -> None:
+    """What holds the follower on the other side at θ = 0, its trace point at *other*: a yoke's
+    other face, or the second roller tied to the pivot or to the first roller's *trace*."""
+    from camfab.export.figures import FOLLOWER
+
+    cam = analysis.result.geometry.cam
+    fol = cam.follower
     if fol.flat:
         half = 0.6 * cam.base_radius
         ax.plot([other[0] - half, other[0] + half], [other[1], other[1]], color=FOLLOWER,
@@ -213,14 +228,14 @@ def _draw_partner(ax: Any, analysis: Analysis, partner: Partner) -> None:
             linestyle=":")
 
 
-
 def _with_partner(analysis: Analysis,
-                  partner_of: Callable[[Analysis], tuple[Partner, list[Finding]]]) -> Analysis:
+                  partner_of: Callable[[Analysis], tuple[Partner, list[Finding]]],
+                  result: type[PairResult]) -> Analysis:
     plate = analysis.result
     assert isinstance(plate, PlateResult)
     partner, findings = partner_of(analysis)
     return replace(analysis, findings=findings,
-                   result=PairResult(plate.geometry, plate.numbers, partner))
+                   result=result(plate.geometry, plate.numbers, partner))
 
 
 class ConstantBreadth:
@@ -240,7 +255,7 @@ class ConstantBreadth:
         from camfab.analysis.partner_checks import breadth_partner
 
         return _with_partner(analyse_plate(design, program, units, stats, findings),
-                             breadth_partner)
+                             breadth_partner, PairResult)
 
     @staticmethod
     def part(analysis: Analysis) -> Part:
@@ -314,7 +329,7 @@ class Conjugate:
         from camfab.analysis.partner_checks import conjugate_partner
 
         return _with_partner(analyse_plate(design, program, units, stats, findings),
-                             conjugate_partner)
+                             conjugate_partner, ConjugateResult)
 
     @staticmethod
     def verify(analysis: Analysis, part: Part, files: PartFiles) -> tuple[Analysis,
