@@ -1,7 +1,9 @@
-"""The pipeline: design -> analysis -> artifacts (bytes) -> files, written atomically.
+"""The pipeline: load -> the kind's analysis -> its part -> files (bytes) -> read back -> written
+atomically.
 
-Exporters only serialise; this module decides which files a design gets and writes them through
-temporary files renamed into place, so an interrupted or failed build leaves earlier outputs intact.
+The kinds describe and read back, the format writers serialise; this module decides which files
+a design gets and writes them through temporary files renamed into place, so an interrupted or
+failed build leaves earlier outputs intact.
 """
 
 from __future__ import annotations

@@ -1,1 +1,3 @@
-"""Exporters: each turns an analysis into the bytes of one file; the pipeline writes them."""
+"""Format writers and readers: DXF, SVG, STL, the report (JSON, HTML, figures) and the motion
+table, each serialising a kind's part (:mod:`camfab.export.part`) or an analysis into the bytes
+of one file; the pipeline writes them."""

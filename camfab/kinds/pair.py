@@ -1,4 +1,6 @@
-"""The files of the cams that hold their follower on both sides, read back.
+"""The cams that hold their follower on both sides (THEORY §F): the conjugate pair and the
+constant-breadth cam, two kinds built on the disc cam, with the second contact and the ``hold``
+check in their analysis.
 
 A conjugate pair gets a DXF and an SVG per plate (``NAME-a``, ``NAME-b``: cam b drawn as it is
 made, half a turn from the frame it is computed in) and one STL of both plates stacked on the
