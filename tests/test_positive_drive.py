@@ -317,6 +317,11 @@ REFUSALS = [
      "follower.arm_angle: required for an oscillating conjugate cam"),
     ("bell-crank-closed", (DESIGNS / "demo-conjugate-oscillating.yaml").read_text().replace(
         "arm_angle: 67", "arm_angle: 38"), "follower.arm_angle: leaves cam b no base circle"),
+    # cam b is checked once arm a's own rules hold: an arm too short for the prime circle is
+    # reported as such, not as the arithmetic error cam b's geometry would raise
+    ("bell-crank-short-arm", (DESIGNS / "demo-conjugate-oscillating.yaml").read_text().replace(
+        "arm_length: 80", "arm_length: 5"),
+     "follower.arm_length: the arm cannot reach the prime circle"),
     ("breadth-broken", BREADTH.read_text().replace(
         "  - dwell: {angle: 30}\n",
         "  - dwell: {angle: 30}\n  - return: {angle: 150, lift: 20, law: harmonic}\n"
