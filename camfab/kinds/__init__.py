@@ -4,7 +4,8 @@
 A kind analyses a design (its geometry, key numbers and findings), describes the part it makes
 as data the format writers serialise, and reads the files back, running the follower over
 them. The pipeline knows no kind: it asks :func:`kind_of` for the design's and calls it.
-Adding a kind means adding one module here and one line to :data:`REGISTRY`.
+Adding a kind means adding one module here and one line to :data:`REGISTRY` (and teaching the
+design file its type: ``docs/architecture.md``).
 """
 
 from __future__ import annotations
