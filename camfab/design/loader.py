@@ -8,12 +8,13 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any, NoReturn, get_args
+from typing import Any, NoReturn
 
 from pydantic import ValidationError
 
-from camfab.design.model import CamType, Design
-from camfab.design.rules import RuleViolation, check_cam_type
+from camfab.design.cam_types import CAM_TYPES, CamTypeSpec
+from camfab.design.model import Design
+from camfab.design.rules import RuleViolation
 from camfab.design.source import Path_, SourceDocument, dotted, parse_yaml, read_design_file
 from camfab.errors import DesignError, Location, did_you_mean
 
@@ -21,21 +22,6 @@ SEGMENT_KINDS = {"rise": "rise", "return": "return", "fall": "return", "dwell": 
 
 _TOP = ("name", "description", "units", "cam", "follower", "motion", "spring", "limits",
         "manufacturing", "outputs", "table_step")
-_CAM = {
-    "disc": ("type", "rotation", "speed_rpm", "base_radius", "thickness", "bore", "keyway"),
-    "cylindrical": ("type", "rotation", "speed_rpm", "radius", "length", "groove_depth",
-                    "groove_start", "bore"),
-    "circular-arc": ("type", "rotation", "speed_rpm", "base_radius", "lift", "lift_angle",
-                     "nose_radius", "flank_angle", "top_dwell", "thickness", "bore", "keyway"),
-    "tangent": ("type", "rotation", "speed_rpm", "base_radius", "lift", "lift_angle",
-                "nose_radius", "top_dwell", "thickness", "bore", "keyway"),
-    "groove": ("type", "rotation", "speed_rpm", "base_radius", "thickness", "groove_depth",
-               "outer_radius", "bore", "keyway"),
-    "conjugate": ("type", "rotation", "speed_rpm", "base_radius", "thickness", "bore", "keyway"),
-    "constant-breadth": ("type", "rotation", "speed_rpm", "base_radius", "thickness", "bore",
-                         "keyway"),
-    "linear": ("type", "speed_rpm", "stroke", "base_height", "thickness"),
-}
 _SECTIONS: dict[str, tuple[str, ...]] = {
     "spring": ("rate", "preload", "initial_compression", "gravity", "damping", "external_load"),
     "limits": ("pressure_angle", "min_radius_of_curvature"),
@@ -141,7 +127,7 @@ class _Shaper:
     def __init__(self, doc: SourceDocument) -> None:
         self.doc = doc
         self.segment_keys: dict[int, str] = {}
-        self.linear = False
+        self.span = "angle"  # what a segment gives its length in: its cam type's
 
     def yaml_path(self, model_path: Path_) -> Path_:
         """Where a model path is in the file: ``motion[i].x`` lives under the segment's key."""
@@ -168,22 +154,18 @@ class _Shaper:
         data = dict(self.doc.data)
         self.keys(data, _TOP, (), "the design")
         cam_type = _text(_get(data, "cam", "type"))
-        if cam_type is not None and cam_type in get_args(CamType):  # built yet?
-            try:
-                check_cam_type(cam_type)
-            except RuleViolation as exc:
-                self.fail(exc.path, exc.error.problem, allowed=exc.error.allowed)
-        if cam_type in _CAM:
-            self.keys(data["cam"], _CAM[cam_type], ("cam",), f"a {cam_type} cam")
+        spec = CAM_TYPES.get(cam_type) if cam_type is not None else None
+        if spec is not None:
+            self.keys(data["cam"], spec.cam_keys, ("cam",), f"a {cam_type} cam")
             self.keys(_get(data, "cam", "keyway"), _KEYWAY, ("cam", "keyway"), "keyway")
         follower = data.get("follower")
         if isinstance(follower, dict):
-            self.keys(follower, _follower_keys(cam_type, follower), ("follower",),
+            self.keys(follower, _follower_keys(spec, follower), ("follower",),
                       _follower_label(follower))
         for section, allowed in _SECTIONS.items():
             self.keys(data.get(section), allowed, (section,), section)
         if "motion" in data:
-            self.linear = cam_type == "linear"
+            self.span = spec.span if spec is not None else "angle"
             data["motion"] = self._motion(data["motion"])
         return data
 
@@ -207,7 +189,7 @@ class _Shaper:
                 self.fail(("motion", i), f"a {key} needs its data as a mapping "
                           "(angle, lift, law)", got=body)
             self._segment_params(i, kind, body)
-            self.keys(body, _segment_keys(kind, body.get("law"), self.linear), ("motion", i),
+            self.keys(body, _segment_keys(kind, body.get("law"), self.span), ("motion", i),
                       f"a {kind}")
             for end in ("start", "end"):
                 self.keys(body.get(end), _CONDITIONS, ("motion", i, end), "boundary conditions")
@@ -219,13 +201,13 @@ class _Shaper:
 
     def _segment_params(self, i: int, kind: str, body: dict[str, Any]) -> None:
         """Parameters that belong to other laws, named as such rather than as unknown keys."""
-        allowed = _segment_keys(kind, body.get("law"), self.linear)
+        allowed = _segment_keys(kind, body.get("law"), self.span)
         for key in body:
             if key in allowed:
                 continue
             if key in ("angle", "travel"):
                 self.fail(("motion", i, key), "a linear cam's segments give their travel (a "
-                          "length along the cam), not an angle" if self.linear else
+                          "length along the cam), not an angle" if self.span == "travel" else
                           "only a linear cam's segments give a travel; this cam's give an angle")
             if kind == "dwell" and key in ("lift", "law"):
                 self.fail(("motion", i, key), "a dwell has only an angle (no lift or law)")
@@ -280,7 +262,8 @@ class _Shaper:
             self.fail(path, f"cannot read the table: {name} is not a UTF-8 text file")
 
 
-def _follower_keys(cam_type: Any, follower: dict[str, Any]) -> tuple[str, ...]:
+def _follower_keys(spec: CamTypeSpec | None, follower: dict[str, Any]) -> tuple[str, ...]:
+    """The keys the *follower* section takes: its type's and motion's, and its cam type's."""
     ftype = _text(follower.get("type"))
     ftype = "mushroom" if ftype == "spherical" else ftype
     motion = _text(follower.get("motion", "translating"))
@@ -293,10 +276,8 @@ def _follower_keys(cam_type: Any, follower: dict[str, Any]) -> tuple[str, ...]:
         keys.append("offset")
     keys += {"roller": ["roller_radius"], "mushroom": ["face_radius"],
              "flat": ["face_width"]}.get(ftype or "", [])
-    if cam_type in ("cylindrical", "groove"):
-        keys.append("groove_clearance")
-    if cam_type == "conjugate":
-        keys.append("arm_angle" if motion == "oscillating" else "roller_spacing")
+    if spec is not None:
+        keys += spec.follower_keys(motion == "oscillating")
     if ftype not in ("knife", "roller", "flat", "mushroom") or motion not in (
             "translating", "oscillating"):
         # the type itself is wrong: accept every follower key and let the type error speak
@@ -312,9 +293,9 @@ def _follower_label(follower: dict[str, Any]) -> str:
     return f"{article} {motion} {_text(follower.get('type')) or ''} follower"
 
 
-def _segment_keys(kind: str, law: Any, linear: bool = False) -> tuple[str, ...]:
-    """The keys a segment takes: its angle (a linear cam's: its travel), and its law's."""
-    span = "travel" if linear else "angle"
+def _segment_keys(kind: str, law: Any, span: str = "angle") -> tuple[str, ...]:
+    """The keys a segment takes: its *span* (an angle, or a sliding cam's travel), and its
+    law's."""
     if kind == "dwell":
         return (span,)
     from camfab.motion.laws import canonical_law_name

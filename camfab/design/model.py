@@ -28,14 +28,15 @@ from pydantic import (
 from pydantic_core import PydanticCustomError
 
 from camfab.design import units as U
+from camfab.design.cam_types import CAM_TYPES, CamTypeSpec
 from camfab.errors import DesignError, did_you_mean
 
 if TYPE_CHECKING:
     from camfab.curves.shaped import ShapedCam
     from camfab.motion.program import MotionProgram
 
-CamType = Literal["disc", "cylindrical", "circular-arc", "tangent", "groove", "conjugate",
-                  "constant-breadth", "linear"]
+#: The ``cam.type`` names, from the registry of cam types.
+CamTypeName = Literal[tuple(CAM_TYPES)]  # type: ignore[valid-type]
 FollowerType = Literal["knife", "roller", "flat", "mushroom"]
 OutputName = Literal["dxf", "svg", "stl", "report", "csv"]
 
@@ -103,14 +104,6 @@ class Keyway(Frozen):
     depth: PositiveLength
 
 
-#: Cam types whose shape defines the motion (THEORY §D): they have no motion list.
-SHAPED_CAM_TYPES = ("circular-arc", "tangent")
-
-#: Plate cams turning about their centre, built on the disc cam's exact curves: the plain disc,
-#: the face-groove cam, the conjugate pair and the constant-breadth cam (THEORY §B, §F).
-PLATE_CAM_TYPES = ("disc", "groove", "conjugate", "constant-breadth")
-
-
 class Cam(Frozen):
     """The cam body. Disc: ``base_radius`` (+ ``thickness``, ``bore``, ``keyway``).
     Cylindrical: ``radius`` (outer), ``length``, ``groove_depth``, ``groove_start``, ``bore``.
@@ -120,7 +113,7 @@ class Cam(Frozen):
     Groove: a disc's keys with ``groove_depth`` and ``outer_radius``. Conjugate and
     constant-breadth: a disc's keys. Linear: ``stroke``, ``base_height``, ``thickness``."""
 
-    type: CamType
+    type: CamTypeName
     rotation: Literal["ccw", "cw"] = "ccw"
     speed_rpm: Annotated[float, _as(U.SPEED), Field(gt=0)] | None = None
     base_radius: PositiveLength | None = None
@@ -141,19 +134,10 @@ class Cam(Frozen):
     base_height: PositiveLength | None = None
 
     @property
-    def plate(self) -> bool:
-        """True for a plate cam turning about its centre with a disc cam's curves."""
-        return self.type in PLATE_CAM_TYPES
-
-    @property
-    def linear(self) -> bool:
-        """True for a translating (wedge) cam that moves along X instead of turning."""
-        return self.type == "linear"
-
-    @property
-    def shaped(self) -> bool:
-        """True for a cam whose shape defines the motion (circular-arc, tangent)."""
-        return self.type in SHAPED_CAM_TYPES
+    def spec(self) -> CamTypeSpec:
+        """What the design file takes for this cam's type, and its rules
+        (:mod:`camfab.design.cam_types`)."""
+        return CAM_TYPES[self.type]
 
     @property
     def sigma(self) -> int:
@@ -346,41 +330,13 @@ class Design(Frozen):
     def program(self) -> MotionProgram:
         """The motion program s(θ): of ``motion``, or of the cam's shape for a circular-arc or
         tangent cam (built once; the rules build it to check it)."""
-        if self.cam.shaped:
-            from camfab.curves.contact import contact_program
-            from camfab.curves.follower import FollowerGeometry
-
-            fol = FollowerGeometry.from_design(self)
-            return contact_program(self.shape.pieces(), fol.radius, fol.flat)
-        from camfab.motion.program import build_program
-
-        assert self.motion is not None, "the design rules require a motion list"
-        specs = list(self.motion)
-        if self.cam.linear:  # a travel along the stroke is that share of a cycle
-            stroke = self.cam.stroke or 1.0
-            specs = [seg.model_copy(update={"angle": 2.0 * math.pi * (seg.travel or 0.0) / stroke})
-                     for seg in specs]
-        total = sum(seg.angle or 0.0 for seg in specs)
-        if self.cam.type == "constant-breadth" and math.isclose(total, math.pi, abs_tol=1e-9):
-            from camfab.motion.mirror import half_turn
-
-            return half_turn(specs)  # type: ignore[arg-type]
-        return build_program(specs)  # type: ignore[arg-type]
+        return self.cam.spec.program(self)
 
     @cached_property
     def shape(self) -> ShapedCam:
         """The dimensions and outline of a circular-arc or tangent cam (raises ShapeError for
         dimensions no such cam has; the design rules have checked them)."""
-        from camfab.curves.shaped import ShapedCam
-
-        cam = self.cam
-        assert cam.shaped and cam.base_radius is not None and cam.lift is not None
-        if cam.type == "circular-arc":
-            assert cam.lift_angle is not None
-            return ShapedCam.circular_arc(cam.base_radius, cam.lift, cam.lift_angle,
-                                          cam.nose_radius, cam.flank_angle, cam.top_dwell)
-        return ShapedCam.tangent(cam.base_radius, cam.lift, cam.lift_angle, cam.nose_radius,
-                                 cam.top_dwell)
+        return self.cam.spec.shape(self.cam)
 
     @property
     def pressure_angle_limit(self) -> float:

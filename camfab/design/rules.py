@@ -18,10 +18,6 @@ if TYPE_CHECKING:
     from camfab.design.model import Design
     from camfab.motion.program import MotionProgram
 
-#: Cam types this version builds; the others are part of the design format but not built yet.
-SUPPORTED_CAM_TYPES = ("disc", "cylindrical", "circular-arc", "tangent", "groove", "conjugate",
-                       "constant-breadth", "linear")
-
 #: Smallest wall of material camfab accepts between a groove or bore and the part's edge (mm):
 #: thinner walls do not survive printing or machining.
 MIN_WALL_MM = 1.0
@@ -46,31 +42,6 @@ MAX_SEGMENTS = 1000
 #: the nose's normals come from points 1e-16 of that apart, and a nose much smaller has none.
 MIN_NOSE_SHARE = 1e-8
 
-#: Follower contact shapes per cam type.
-FOLLOWERS_FOR_CAM = {"disc": ("knife", "roller", "flat", "mushroom"), "cylindrical": ("roller",),
-                     "circular-arc": ("knife", "roller", "flat", "mushroom"),
-                     "tangent": ("knife", "roller", "flat", "mushroom"),
-                     "groove": ("roller",), "conjugate": ("roller",),
-                     "constant-breadth": ("flat", "roller"), "linear": ("roller", "knife")}
-
-#: Why a cam type refuses a follower it cannot drive, where the list alone does not say.
-FOLLOWER_HINTS = {
-    ("linear", "flat"): "a flat face perpendicular to its motion rests on the highest point of "
-                        "a cam sliding under it, so a linear cam cannot move it",
-}
-
-#: Keys each cam type requires.
-REQUIRED_CAM_KEYS = {"disc": ("base_radius",), "cylindrical": ("radius", "length", "groove_depth"),
-                     "circular-arc": ("base_radius", "lift", "lift_angle"),
-                     "tangent": ("base_radius", "lift"),
-                     "groove": ("base_radius", "thickness", "groove_depth"),
-                     "conjugate": ("base_radius",), "constant-breadth": ("base_radius",),
-                     "linear": ("stroke", "base_height")}
-
-#: Cam types that drive a translating follower only.
-TRANSLATING_ONLY = ("cylindrical", "circular-arc", "tangent", "constant-breadth", "linear")
-
-
 class RuleViolation(CamfabError):
     """A broken design rule at *path*; deliberately not a ValueError so that pydantic lets it
     through unchanged. ``show_got`` asks the loader to quote the value written at *path*."""
@@ -88,30 +59,22 @@ def fail(path: tuple[str | int, ...], problem: str, *, show_got: bool = True,
 
 
 def check_rules(design: Design) -> None:
-    """Raise :class:`RuleViolation` for the first broken rule."""
+    """Raise :class:`RuleViolation` for the first broken rule: the rules every design has, and
+    at their places those of its cam type (:class:`~camfab.design.cam_types.CamTypeSpec`)."""
     _check_cam(design)
     _check_follower(design)
     program = _check_motion(design)
-    _check_cam_fit(design, program.max_lift)
     _check_oscillating(design, program.max_lift)
-    _check_groove_fit(design)
+    design.cam.spec.check_fit(design, program)
     _check_swinging_face(design, program)
     _check_manufacturing(design)
     _check_other(design)
     _check_size(design, program.max_lift)
 
 
-def check_cam_type(cam_type: str) -> None:
-    """Fail for a cam type of the design format that this version does not build."""
-    if cam_type not in SUPPORTED_CAM_TYPES:
-        fail(("cam", "type"), f"'{cam_type}' cams are not built by this version of camfab",
-             show_got=False, allowed=", ".join(SUPPORTED_CAM_TYPES))
-
-
 def _check_cam(design: Design) -> None:
-    cam = design.cam
-    check_cam_type(cam.type)
-    for key in REQUIRED_CAM_KEYS[cam.type]:
+    cam, spec = design.cam, design.cam.spec
+    for key in spec.required:
         if getattr(cam, key) is None:
             fail(("cam", key), f"required for a {cam.type} cam", show_got=False)
     tolerance = design.manufacturing.tolerance
@@ -121,14 +84,9 @@ def _check_cam(design: Design) -> None:
     if cam.groove_depth is not None and cam.groove_depth <= tolerance:
         fail(("cam", "groove_depth"), f"must be larger than the export tolerance "
              f"({mm(tolerance)}): a shallower groove cannot be cut to it")
-    if cam.shaped:
-        _check_shape(design)
-    if cam.type == "groove":
-        _check_groove(design)
-    if cam.type == "linear":
-        _check_linear(design)
-    if cam.type not in ("cylindrical", "linear"):
-        rb = cam.base_radius or 0.0
+    spec.check_cam(design)
+    if spec.bore_within is not None:
+        rb = getattr(cam, spec.bore_within) or 0.0
         if cam.bore is not None and cam.bore / 2 > rb - MIN_WALL_MM:
             fail(("cam", "bore"),
                  f"leaves less than {MIN_WALL_MM:g} mm of material inside the base circle "
@@ -139,96 +97,22 @@ def _check_cam(design: Design) -> None:
         assert cam.bore is not None
         if cam.keyway.width >= cam.bore:
             fail(("cam", "keyway", "width"), f"must be narrower than the bore ({mm(cam.bore)})")
-        outer = cam.radius if cam.type == "cylindrical" else cam.base_radius
+        outer = None if spec.keyway_within is None else getattr(cam, spec.keyway_within)
         if outer is not None and cam.bore / 2 + cam.keyway.depth > outer - MIN_WALL_MM:
             fail(("cam", "keyway", "depth"),
                  f"cuts to within {MIN_WALL_MM:g} mm of the cam's edge")
 
 
-def _check_groove(design: Design) -> None:
-    """The groove is a pocket: it must leave a floor under it."""
-    cam = design.cam
-    assert cam.thickness is not None and cam.groove_depth is not None
-    if cam.groove_depth > cam.thickness - MIN_WALL_MM:
-        fail(("cam", "groove_depth"), f"must leave at least {MIN_WALL_MM:g} mm of floor under "
-             f"the groove (thickness {mm(cam.thickness)})")
-
-
-def _check_groove_fit(design: Design) -> None:
-    """A groove cam's roller (its radius plus half the clearance) must reach the prime circle
-    from an oscillating follower's pivot. (That the plate's ``outer_radius`` leaves a wall of
-    material outside the groove takes the groove's geometry: the groove kind checks it.)"""
-    cam, fol = design.cam, design.follower
-    if cam.type != "groove":
-        return
-    half = (fol.roller_radius or 0.0) + fol.groove_clearance / 2
-    rp = (cam.base_radius or 0.0) + half
-    if fol.oscillating:
-        a, arm = fol.pivot_distance or 0.0, fol.arm_length or 0.0
-        if not abs(a - arm) < rp < a + arm:
-            fail(("follower", "arm_length"), f"the arm cannot reach the prime circle of the "
-                 f"groove's centre line: need |pivot_distance − arm_length| < {mm(rp)} < "
-                 "pivot_distance + arm_length")
-
-
-def _check_linear(design: Design) -> None:
-    """The plate must stand under the follower at its lowest."""
-    cam, fol = design.cam, design.follower
-    assert cam.base_height is not None
-    low = cam.base_height - fol.trace_radius
-    if low < MIN_WALL_MM:
-        fail(("cam", "base_height"), f"leaves {mm(low)} of plate under the follower at zero "
-             f"lift (base height less the roller radius); at least {MIN_WALL_MM:g} mm is needed")
-
-
-def _check_shape(design: Design) -> None:
-    """A circular-arc or tangent cam's dimensions must make one (and the nose, flanks and base
-    circle must all be there)."""
-    from camfab.curves.shaped import ShapeError
-
-    cam = design.cam
-    if cam.type == "tangent" and cam.lift_angle is None and cam.nose_radius is None:
-        fail(("cam", "lift_angle"), "required for a tangent cam (or nose_radius)", show_got=False)
-    if cam.type == "circular-arc" and cam.nose_radius is None and cam.flank_angle is None:
-        fail(("cam", "nose_radius"), "required for a circular-arc cam (or flank_angle)",
-             show_got=False)
-    try:
-        shape = design.shape
-    except ShapeError as exc:
-        fail(("cam", exc.field), exc.problem)
-    size = shape.base_radius + shape.lift
-    if shape.nose_radius < MIN_NOSE_SHARE * size:
-        given = ("nose_radius" if cam.nose_radius is not None else
-                 "lift_angle" if cam.type == "tangent" else "flank_angle")
-        fail(("cam", given), f"gives a nose of radius {mm(shape.nose_radius)}: it must be at "
-             f"least {MIN_NOSE_SHARE:g} of the cam's radius ({mm(size)}), or rounding loses which "
-             "way the nose faces")
-
-
 def _check_follower(design: Design) -> None:
-    cam, fol = design.cam, design.follower
-    allowed = FOLLOWERS_FOR_CAM[cam.type]
+    cam, fol, spec = design.cam, design.follower, design.cam.spec
+    allowed = spec.followers
     if fol.type not in allowed:
         fail(("follower", "type"), f"a {cam.type} cam takes a {' or '.join(allowed)} follower",
-             allowed=", ".join(allowed), hint=FOLLOWER_HINTS.get((cam.type, fol.type)))
-    if cam.type in TRANSLATING_ONLY and fol.oscillating:
+             allowed=", ".join(allowed), hint=spec.hint_for(fol.type))
+    if spec.translating_only and fol.oscillating:
         fail(("follower", "motion"), f"a {cam.type} cam drives a translating follower",
              allowed="translating")
-    if cam.shaped and fol.offset != 0.0:
-        fail(("follower", "offset"), f"a {cam.type} cam's follower moves along a line through "
-             "the cam centre: the offset must be 0")
-    if cam.type == "linear" and fol.offset != 0.0:
-        fail(("follower", "offset"), "a linear cam's follower line is where the travel starts: "
-             "the offset must be 0 (a dwell shifts the motion along the cam)")
-    if cam.type == "constant-breadth" and fol.type == "roller" and fol.offset != 0.0:
-        fail(("follower", "offset"), "the two rollers of a constant-diameter cam lie on a line "
-             "through the cam centre: the offset must be 0")
-    if cam.type == "conjugate" and not fol.oscillating and fol.roller_spacing is None:
-        fail(("follower", "roller_spacing"), "required for a conjugate cam (the distance between "
-             "the two rollers' centres along the follower)", show_got=False)
-    if cam.type == "conjugate" and fol.oscillating and fol.arm_angle is None:
-        fail(("follower", "arm_angle"), "required for an oscillating conjugate cam (the angle "
-             "at the pivot between the bell-crank's two arms)", show_got=False)
+    spec.check_follower(design)
     if fol.type == "roller" and fol.roller_radius is None:
         fail(("follower", "roller_radius"), "required for a roller follower", show_got=False)
     if fol.type == "mushroom" and fol.face_radius is None:
@@ -237,7 +121,7 @@ def _check_follower(design: Design) -> None:
         for key in ("pivot_distance", "arm_length"):
             if getattr(fol, key) is None:
                 fail(("follower", key), "required for an oscillating follower", show_got=False)
-    elif cam.plate and fol.type != "flat":
+    elif spec.disc_curves and fol.type != "flat":
         rp = (cam.base_radius or 0.0) + fol.trace_radius
         if abs(fol.offset) >= rp:
             fail(("follower", "offset"),
@@ -247,7 +131,8 @@ def _check_follower(design: Design) -> None:
 def _check_motion(design: Design) -> MotionProgram:
     from camfab.motion.program import ProgramError
 
-    if design.cam.shaped:
+    spec = design.cam.spec
+    if spec.shaped:
         if design.motion is not None:
             fail(("motion",), f"a {design.cam.type} cam's shape defines the motion: remove the "
                  "motion list", show_got=False)
@@ -257,20 +142,10 @@ def _check_motion(design: Design) -> MotionProgram:
     if len(design.motion) > MAX_SEGMENTS:
         fail(("motion",), f"has {len(design.motion):,} segments; camfab builds at most "
              f"{MAX_SEGMENTS:,}", show_got=False)
-    linear = design.cam.linear
-    span_key = "travel" if linear else "angle"
     for i, seg in enumerate(design.motion):
-        span = seg.travel if linear else seg.angle
-        if span is None:
-            fail(("motion", i, span_key), "required", show_got=False)
-        if linear:
-            if seg.law in ("polynomial", "table"):
-                fail(("motion", i, "law"), "a linear cam's segments take the standard laws (a "
-                     "polynomial's or a table's conditions and points are per cam angle)",
-                     allowed=", ".join(n for n in _law_names().split(", ")
-                                       if n not in ("polynomial", "table")))
-        elif math.degrees(span) < MIN_SEGMENT_DEG:
-            fail(("motion", i, "angle"), f"must be at least {MIN_SEGMENT_DEG:g}°")
+        if getattr(seg, spec.span) is None:
+            fail(("motion", i, spec.span), "required", show_got=False)
+        spec.check_span(design, i, seg)
         if seg.kind == "dwell":
             continue
         if seg.law is None:
@@ -288,8 +163,7 @@ def _check_motion(design: Design) -> MotionProgram:
                  show_got=False)
         if seg.lift is None and seg.kind == "rise" and seg.law != "table":
             fail(("motion", i, "lift"), "required for a rise", show_got=False)
-    if linear:
-        _check_travel(design)
+    spec.check_motion(design)
     try:
         program = design.program
     except ProgramError as exc:
@@ -299,8 +173,7 @@ def _check_motion(design: Design) -> MotionProgram:
         fail(path, exc.problem, show_got=False)
     _check_excursion(design, program)
     _check_steepness(design, program)
-    if design.cam.type == "constant-breadth":
-        _check_half_turn(design, program)
+    spec.check_program(design, program)
     return program
 
 
@@ -342,80 +215,23 @@ MAX_STEEPNESS = 100.0
 def _check_steepness(design: Design, program: MotionProgram) -> None:
     """No segment may move the follower more than :data:`MAX_STEEPNESS` times as fast as the
     cam's surface under it (a plate's prime circle and lift, a drum's surface, a linear cam's
-    travel)."""
-    cam, fol = design.cam, design.follower
+    travel: :meth:`~camfab.design.cam_types.CamTypeSpec.surface`)."""
+    fol, spec = design.follower, design.cam.spec
     arm = (fol.arm_length or 0.0) if fol.oscillating else 1.0
-    if cam.linear:
-        surface = (cam.stroke or 0.0) / (2.0 * math.pi)  # travel per radian of the cycle
-    elif cam.type == "cylindrical":
-        surface = cam.radius or 0.0
-    else:
-        surface = (cam.base_radius or 0.0) + fol.trace_radius + program.max_lift * arm
+    surface = spec.surface(design, program)
     worst = max(program.segments, key=lambda seg: seg.peak(1))
     ratio = worst.peak(1) * arm / surface if surface > 0.0 else 0.0
     if ratio > MAX_STEEPNESS:
         fail(("motion", worst.index), f"is too steep to build: the follower moves {ratio:.3g} "
              f"times as fast as the cam's surface under it (at most {MAX_STEEPNESS:g}, a "
              f"pressure angle of {math.degrees(math.atan(MAX_STEEPNESS)):.4g}°); spread the "
-             f"{worst.kind} over a {'longer travel' if cam.linear else 'larger angle'}",
+             f"{worst.kind} over a {'longer travel' if spec.span == 'travel' else 'larger angle'}",
              show_got=False)
-
-
-def _check_travel(design: Design) -> None:
-    """A linear cam's segments must cover its stroke exactly."""
-    stroke = design.cam.stroke or 0.0
-    motion = design.motion or ()
-    total = sum(seg.travel or 0.0 for seg in motion)
-    if not math.isclose(total, stroke, rel_tol=1e-9, abs_tol=1e-9):
-        fail(("motion",), f"the segment travels sum to {mm(total)}; they must sum to the "
-             f"stroke {mm(stroke)}", show_got=False)
-
-
-def _check_half_turn(design: Design, program: MotionProgram) -> None:
-    """A constant-breadth (or constant-diameter) cam's motion must satisfy s(θ + 180°) =
-    h − s(θ): only the first half turn is free."""
-    from camfab.motion.mirror import half_turn_mismatch
-
-    theta, error = half_turn_mismatch(program)
-    worst = int(abs(error).argmax())
-    if abs(error[worst]) <= 1e-9 * max(program.max_lift, 1.0):
-        return
-    at = float(theta[worst])
-    index = next(seg.index for seg in reversed(program.segments) if seg.start <= at + 1e-12)
-    fail(("motion", index), "a constant-breadth cam's two faces (or rollers) stay the same "
-         "distance apart, so the motion must satisfy s(θ + 180°) = h − s(θ); at "
-         f"θ = {math.degrees(at) - 180.0:.6g}° and {math.degrees(at):.6g}° it is off by "
-         f"{mm(abs(float(error[worst])))}", show_got=False,
-         hint="give only the first 180° of the motion and camfab completes the rest")
-
-
-def _check_cam_fit(design: Design, max_lift: float) -> None:
-    cam, fol = design.cam, design.follower
-    if cam.type != "cylindrical":
-        return
-    assert cam.radius is not None and cam.length is not None and cam.groove_depth is not None
-    if cam.groove_depth > cam.radius - MIN_WALL_MM:
-        fail(("cam", "groove_depth"), f"must leave at least {MIN_WALL_MM:g} mm below the groove "
-             f"(radius {mm(cam.radius)})")
-    if cam.bore is not None and cam.bore / 2 > cam.radius - cam.groove_depth - MIN_WALL_MM:
-        fail(("cam", "bore"), "reaches the groove root "
-             f"(root radius {mm(cam.radius - cam.groove_depth)})")
-    half = (fol.roller_radius or 0.0) + fol.groove_clearance / 2
-    needed = max_lift + 2 * half + 2 * MIN_WALL_MM
-    if needed > cam.length:
-        fail(("cam", "length"), f"the groove needs {mm(needed)} (lift {mm(max_lift)} + roller "
-             f"and {MIN_WALL_MM:g} mm walls)")
-    if cam.groove_start is not None:
-        low = cam.groove_start - half
-        high = cam.groove_start + max_lift + half
-        if low < MIN_WALL_MM or high > cam.length - MIN_WALL_MM:
-            fail(("cam", "groove_start"), f"puts the groove at z = {mm(low)} … {mm(high)}, "
-                 f"outside the drum's length less {MIN_WALL_MM:g} mm walls")
 
 
 def _check_oscillating(design: Design, max_swing: float) -> None:
     fol = design.follower
-    if not fol.oscillating or not design.cam.plate:
+    if not fol.oscillating or not design.cam.spec.disc_curves:
         return
     a, arm = fol.pivot_distance or 0.0, fol.arm_length or 0.0
     rb = design.cam.base_radius or 0.0
@@ -455,7 +271,7 @@ def _check_swinging_face(design: Design, program: MotionProgram) -> None:
     import numpy as np
 
     fol = design.follower
-    if not (fol.oscillating and fol.type == "flat" and design.cam.type == "disc"):
+    if not (fol.oscillating and fol.type == "flat" and design.cam.spec.disc_curves):
         return
     theta = np.linspace(0.0, 2 * math.pi, 7201)
     sign = design.cam.sigma * (1 if fol.pivot_side == "right" else -1)
@@ -482,12 +298,8 @@ def _check_manufacturing(design: Design) -> None:
              f"must be smaller than the keyway's width ({mm(cam.keyway.width)})")
 
 
-#: Cams that drive their follower both ways (positive drive): a spring has nothing to do.
-POSITIVE_DRIVE = ("groove", "conjugate", "constant-breadth")
-
-
 def _check_other(design: Design) -> None:
-    if design.spring is not None and design.cam.type in POSITIVE_DRIVE:
+    if design.spring is not None and design.cam.spec.positive_drive:
         fail(("spring",), f"a {design.cam.type} cam drives its follower both ways (positive "
              "drive): it has no return spring; remove the spring section", show_got=False)
     limit = design.limits.pressure_angle

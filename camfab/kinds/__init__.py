@@ -4,14 +4,17 @@
 A kind analyses a design (its geometry, key numbers and findings), describes the part it makes
 as data the format writers serialise, and reads the files back, running the follower over
 them. The pipeline knows no kind: it asks :func:`kind_of` for the design's and calls it.
-Adding a kind means adding one module here and one line to :data:`REGISTRY` (and teaching the
-design file its type: ``docs/architecture.md``).
+Adding a kind means adding one module here and its row to the design file's registry of cam
+types, :data:`camfab.design.cam_types.CAM_TYPES`, which names the module
+(``docs/architecture.md``).
 """
 
 from __future__ import annotations
 
 from importlib import import_module
 from typing import TYPE_CHECKING, Protocol
+
+from camfab.design.cam_types import CAM_TYPES
 
 if TYPE_CHECKING:
     from camfab.analysis.findings import Finding
@@ -59,17 +62,10 @@ class CamKind(Protocol):
 
 
 #: ``cam.type`` -> the module holding its kind (imported when a design of that type is built),
-#: as ``module`` (its ``KIND``) or ``module:NAME`` for a module holding more than one.
-REGISTRY: dict[str, str] = {
-    "disc": "camfab.kinds.disc",
-    "circular-arc": "camfab.kinds.shaped",
-    "tangent": "camfab.kinds.shaped",
-    "cylindrical": "camfab.kinds.drum",
-    "groove": "camfab.kinds.groove",
-    "conjugate": "camfab.kinds.pair:CONJUGATE",
-    "constant-breadth": "camfab.kinds.pair:CONSTANT_BREADTH",
-    "linear": "camfab.kinds.linear",
-}
+#: as ``module`` (its ``KIND``) or ``module:NAME`` for a module holding more than one: the
+#: ``kind`` of each row of the design file's registry of cam types
+#: (:data:`camfab.design.cam_types.CAM_TYPES`).
+REGISTRY: dict[str, str] = {name: spec.kind for name, spec in CAM_TYPES.items()}
 
 
 def kind_of(cam_type: str) -> CamKind:
