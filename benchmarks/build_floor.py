@@ -1,0 +1,68 @@
+"""A disc cam's and a drum cam's whole build against the import floor of the libraries no build
+can do without.
+
+    python benchmarks/build_floor.py [--runs N]
+
+Each build is ``camfab build DESIGN`` in a fresh process, as a user runs it, with every output
+(DXF, SVG, STL, HTML and JSON report, motion CSV) and the verification that reads the files
+back. The floor is a bare ``python -c "import numpy, ezdxf, manifold3d"``: a disc build needs
+numpy for its curves, ezdxf for its DXF and manifold3d for its solid. camfab is byte-compiled
+first, as ``pip install`` leaves it. The floor and the builds run in turn, N times each, and
+the medians are compared, all in one run (the machine is shared: only ratios from one run
+mean anything).
+
+Targets: the disc build (designs/seed-10-4.yaml) at most 1.5× the floor and under 1.0 s; the
+drum build (designs/demo-cylindrical.yaml) at most 1.8× the floor.
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import sys
+import tempfile
+from pathlib import Path
+
+from timing import ROOT, compile_package, wall
+
+FLOOR = "import numpy, ezdxf, manifold3d"
+#: (label, design, largest ratio to the floor, largest wall time in seconds or None)
+BUILDS = (("disc", ROOT / "designs" / "seed-10-4.yaml", 1.5, 1.0),
+          ("drum", ROOT / "designs" / "demo-cylindrical.yaml", 1.8, None))
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--runs", type=int, default=9)
+    options = parser.parse_args()
+    compile_package()
+    floor_cmd = [sys.executable, "-c", FLOOR]
+    times: dict[str, list[float]] = {"floor": []}
+    with tempfile.TemporaryDirectory() as folder:
+        commands = {"floor": floor_cmd}
+        for label, design, _, _ in BUILDS:
+            commands[label] = [sys.executable, "-m", "camfab", "build", str(design), "-o",
+                               str(Path(folder) / label)]
+            times[label] = []
+        for command in commands.values():
+            wall(command)  # warm the file cache
+        for _ in range(options.runs):
+            for label, command in commands.items():
+                times[label].append(wall(command))
+    floor = statistics.median(times["floor"])
+    print(f"floor ({FLOOR}): {floor:.3f} s (median of {options.runs}, "
+          f"min {min(times['floor']):.3f})")
+    ok = True
+    for label, design, most, seconds in BUILDS:
+        build = statistics.median(times[label])
+        ratio = build / floor
+        met = ratio <= most and (seconds is None or build < seconds)
+        ok = ok and met
+        limit = f"≤ {most}×" + (f" and < {seconds} s" if seconds is not None else "")
+        print(f"{label} build ({design.name}): {build:.3f} s (min {min(times[label]):.3f}); "
+              f"{ratio:.2f}× the floor; target {limit}: {'met' if met else 'NOT met'}")
+    return 0 if ok else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
