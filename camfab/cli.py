@@ -37,7 +37,7 @@ class Interrupted(BaseException):
 
 
 #: The signals received, noted as well as raised: a library that catches every exception while
-#: it is imported (trimesh's optional imports) swallows the raise, not the note.
+#: it is imported (optional imports tried in a ``try``) swallows the raise, not the note.
 _RECEIVED: list[int] = []
 
 

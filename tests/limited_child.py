@@ -147,7 +147,6 @@ def _warm() -> None:
     import ezdxf
     import manifold3d
     import shapely
-    import trimesh
 
     import camfab.cli
     import camfab.design.units
@@ -155,7 +154,7 @@ def _warm() -> None:
     import camfab.kinds.readback
     import camfab.pipeline
 
-    assert ezdxf and manifold3d and shapely and trimesh and camfab.cli and camfab.pipeline
+    assert ezdxf and manifold3d and shapely and camfab.cli and camfab.pipeline
     assert camfab.export.report_html and camfab.kinds.readback
     camfab.design.units.registry()
 

@@ -38,7 +38,7 @@ class Verification:
 
 @dataclass(frozen=True)
 class StlCheck:
-    """The STL as a reader sees it: read back from its bytes with trimesh (vertices merged).
+    """The STL as a reader sees it: read back from its bytes (coincident corners merged).
     ``short_edges`` and ``sliver_faces`` count what breaks the rule of
     :mod:`camfab.export.mesh_quality` (an edge shared by two faces counts twice).
 

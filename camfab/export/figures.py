@@ -118,10 +118,18 @@ def _pressure_panels(analysis: Analysis, top: Axes, bottom: Axes) -> None:
         ax.legend(fontsize=7, loc="upper right")
 
 
+def median(values: np.ndarray) -> float:
+    """The median of *values* (not empty, none NaN), as ``np.median`` gives it, without the
+    import of ``numpy.ma`` that ``np.median`` makes (to look for masked arrays: 12 ms)."""
+    ordered = np.sort(values, axis=None)
+    mid = ordered.size // 2
+    return float(ordered[mid] if ordered.size % 2 else (ordered[mid - 1] + ordered[mid]) / 2.0)
+
+
 def clip_radii(radius: np.ndarray) -> np.ndarray:
     """Radii for plotting: straight stretches (±∞) and the huge values next to them hidden."""
     finite = np.abs(radius[np.isfinite(radius)])
-    cap = 4.0 * float(np.median(finite)) if finite.size else 1.0
+    cap = 4.0 * median(finite) if finite.size else 1.0
     return np.where(np.abs(radius) <= cap, radius, np.nan)
 
 

@@ -72,6 +72,28 @@ def flaws(vertices: Array, faces: Index) -> tuple[int, int]:
     return int(np.count_nonzero(lengths < MIN_EDGE_MM)), int(np.count_nonzero(thin))
 
 
+def clusters(pairs: Index, count: int) -> tuple[int, Index]:
+    """The clusters of *count* points that *pairs* (K, 2) of indices join: their number, and
+    each point's cluster (0 up, numbered by the cluster's lowest point).
+
+    Each point takes the lowest label among its pairs' ends, then its label's label (so labels
+    halve their way to the lowest of a cluster), until nothing changes: a few rounds of whole
+    arrays."""
+    label = np.arange(count)
+    first, second = pairs[:, 0], pairs[:, 1]
+    while True:
+        lowest = np.minimum(label[first], label[second])
+        new = label.copy()
+        np.minimum.at(new, first, lowest)
+        np.minimum.at(new, second, lowest)
+        new = new[new]
+        if np.array_equal(new, label):
+            break
+        label = new
+    roots, numbered = np.unique(label, return_inverse=True)
+    return len(roots), numbered.ravel()
+
+
 def without_slivers(solid: Any) -> Any:
     """*solid* (a ``manifold3d.Manifold``) without edges shorter than :data:`MIN_EDGE_MM` or
     facets thinner than :data:`REPAIR_MARGIN` × :func:`min_altitude`, still a closed
@@ -97,8 +119,6 @@ def without_slivers(solid: Any) -> Any:
             return solid
         # imported only for a solid that needs the repair (a drum's boolean)
         import manifold3d
-        from scipy.sparse import coo_matrix
-        from scipy.sparse.csgraph import connected_components
 
         # a thin facet's corner opposite its longest edge, onto that edge (once per corner)
         rows = np.flatnonzero(thin)
@@ -112,9 +132,7 @@ def without_slivers(solid: Any) -> Any:
         vertices[apex] = vertices[a] + t[:, None] * along
         # the ends of short edges, to the middle of each cluster of them
         ends = np.concatenate([faces[short[:, k]][:, [k, (k + 1) % 3]] for k in range(3)])
-        count = len(vertices)
-        graph = coo_matrix((np.ones(len(ends)), (ends[:, 0], ends[:, 1])), shape=(count, count))
-        groups, label = connected_components(graph, directed=False)
+        groups, label = clusters(ends, len(vertices))
         sums = np.zeros((groups, 3))
         np.add.at(sums, label, vertices)
         vertices = (sums / np.bincount(label, minlength=groups)[:, None])[label]

@@ -2,13 +2,14 @@
 
 manifold3d builds the solid a kind describes (:data:`camfab.export.part.Solid`: extrusions of
 the tolerance-sampled contours, cylinders cut into chords within the tolerance, meshes, and their
-booleans), which keeps it a closed 2-manifold with outward normals; trimesh writes the binary
-file and reads it back.
+booleans), which keeps it a closed 2-manifold with outward normals; numpy writes the binary
+file and reads it back, merging coincident corners as mesh readers do, and checks it closed,
+wound alike and of the solid's volume (trimesh, a heavy import, is kept for the tests, as an
+independent reader).
 """
 
 from __future__ import annotations
 
-import io
 import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
@@ -16,7 +17,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from camfab.analysis.verification import StlCheck
-from camfab.arrays import Array
+from camfab.arrays import Array, Index, Mask
 from camfab.curves.sampling import arc_points
 from camfab.export.part import Cylinder, Difference, Extrusion, Mesh, Solid
 
@@ -50,29 +51,85 @@ def circle_segments(radius: float, tolerance: float) -> int:
     return max(8, math.ceil(math.pi / math.acos(max(-1.0, 1.0 - tolerance / radius))))
 
 
+#: An STL's coordinates are merged when they agree to this many decimal places of a millimetre
+#: (1e-8 mm, far below float32's resolution on any part camfab makes), as mesh readers such as
+#: trimesh merge them.
+MERGE_DIGITS = 8
+
+#: A facet normal shorter than this (before it is made a unit vector) is written as zero.
+ZERO_NORMAL = 1e-13
+
+#: A binary STL: an 80-byte header, a face count, then per face its normal, three corners
+#: (float32) and two attribute bytes.
+_HEADER = np.dtype([("header", "V80"), ("face_count", "<u4")])
+_FACET = np.dtype([("normals", "<f4", (3,)), ("vertices", "<f4", (3, 3)), ("attributes", "<u2")])
+
+
+def merged(vertices: Array, faces: Index) -> tuple[Array, Index]:
+    """*vertices* (mm) that agree to :data:`MERGE_DIGITS` places made one, each kept where it
+    first occurs, and *faces* renumbered to them."""
+    keys = np.round(vertices * 10**MERGE_DIGITS).astype(np.int64)
+    rows = np.ascontiguousarray(keys).view(np.dtype((np.void, 8 * keys.shape[1]))).ravel()
+    _, first, inverse = np.unique(rows, return_index=True, return_inverse=True)
+    order = first.argsort()
+    return vertices[first[order]], order.argsort()[inverse.ravel()][faces]
+
+
+def _crosses(triangles: Array) -> Array:
+    """(F, 3) cross products of each triangle's first two edges (corner 0 to 1, 1 to 2)."""
+    edges = triangles[:, 1:, :] - triangles[:, :2, :]
+    return np.cross(edges[:, 0], edges[:, 1])
+
+
+def _areas(crosses: Array) -> Array:
+    """(F,) facet areas (mm²) from their edges' cross products."""
+    return np.sqrt((crosses**2).sum(axis=1)) / 2.0
+
+
+def _unit_normals(crosses: Array) -> Array:
+    """(F, 3) unit normals from the edges' cross products, zero where a facet has none."""
+    norm = np.sqrt(np.dot(crosses * crosses, [1.0, 1.0, 1.0]))
+    valid = norm > ZERO_NORMAL
+    norm[valid] **= -1
+    return np.where(valid[:, None], crosses * norm.reshape((-1, 1)), 0.0)
+
+
+def _has_area(triangles: Array, crosses: Array) -> Mask:
+    """(F,) True where a facet has area and neither of its edges from corner 0 is shorter than
+    1e-8 mm."""
+    areas = _areas(crosses)
+    ok = np.ones(len(triangles), dtype=bool)
+    for k in (1, 2):
+        length = ((triangles[:, k] - triangles[:, 0]) ** 2).sum(axis=1) ** 0.5
+        long_enough = length > 10.0**-MERGE_DIGITS
+        height = np.zeros(len(triangles))
+        height[long_enough] = areas[long_enough] * 2 / length[long_enough]
+        ok &= height > 0.0
+    return ok
+
+
+def stl_bytes(triangles: Array) -> bytes:
+    """Binary STL bytes of (F, 3, 3) *triangles* (mm), each with its unit normal."""
+    header = np.zeros(1, dtype=_HEADER)
+    header["face_count"] = len(triangles)
+    packed = np.zeros(len(triangles), dtype=_FACET)
+    packed["normals"] = _unit_normals(_crosses(triangles))
+    packed["vertices"] = triangles
+    return header.tobytes() + packed.tobytes()
+
+
 def binary_stl(solid: Any) -> bytes:
     """The solid as binary STL bytes, without short edges or sliver facets
     (:mod:`camfab.export.mesh_quality`). The file stores float32: vertices that round to the same
     float32 point become one, and the faces that then have no area (an edge collapsed, which
     keeps the surface closed) are dropped, so what is read back is the closed solid."""
-    import trimesh
-
     from camfab.export.mesh_quality import without_slivers
 
     mesh = without_slivers(solid).to_mesh()
-    vertices = np.asarray(mesh.vert_properties)[:, :3].astype(np.float32)
-    tm = trimesh.Trimesh(vertices, np.asarray(mesh.tri_verts), process=False)
-    tm.merge_vertices()
-    tm.update_faces(tm.nondegenerate_faces(height=0.0))
-    tm.remove_unreferenced_vertices()
-    data = tm.export(file_type="stl")
-    assert isinstance(data, bytes)
-    return data
-
-
-#: trimesh (which imports much of scipy) is imported before manifold3d computes anything: after
-#: a boolean, manifold's worker threads keep a core busy for a while, and the same imports were
-#: measured 0.15 s slower on two cores.
+    vertices = np.asarray(mesh.vert_properties)[:, :3].astype(np.float32).astype(np.float64)
+    vertices, faces = merged(vertices, np.asarray(mesh.tri_verts, dtype=np.int64))
+    triangles = vertices[faces]
+    return stl_bytes(triangles[_has_area(triangles, _crosses(triangles))])
 
 
 @dataclass(frozen=True)
@@ -87,8 +144,6 @@ class StlFile:
 
 def render_stl(solid: Solid) -> StlFile:
     """The binary STL of *solid* (mm), built with manifold3d (see :func:`build`)."""
-    import trimesh  # noqa: F401  (before manifold3d computes: see above)
-
     held: list[Any] = []
     made = build(solid, held)
     return StlFile(binary_stl(made), float(made.volume()), float(made.surface_area()))
@@ -140,32 +195,83 @@ def build(solid: Solid, held: list[Any]) -> Any:
 DEGENERATE_AREA_MM2 = 1e-10
 
 
-def read_stl(data: bytes) -> Any:
-    """The STL *data* read back with trimesh (coincident vertices merged), as a reader would."""
-    import trimesh
+@dataclass(frozen=True)
+class StlMesh:
+    """A binary STL read back as a reader sees it: its corners merged (see :func:`merged`) into
+    (V, 3) ``vertices`` (mm) and (F, 3) ``faces`` indexing them."""
 
-    mesh = trimesh.load(io.BytesIO(data), file_type="stl", force="mesh")
-    assert isinstance(mesh, trimesh.Trimesh)
-    return mesh
+    vertices: Array
+    faces: Index
+
+    @property
+    def triangles(self) -> Array:
+        """(F, 3, 3) corners of each facet (mm)."""
+        return self.vertices[self.faces]
+
+    def edges(self) -> tuple[bool, bool]:
+        """Whether every edge is shared by exactly two facets (the surface is closed), and
+        whether every edge shared by two runs one way in one and the other way in the other
+        (the facets are wound alike)."""
+        edges = self.faces[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2)
+        keys = np.sort(edges, axis=1)
+        rows = np.ascontiguousarray(keys).view(np.dtype((np.void, 16))).ravel()
+        _, inverse, counts = np.unique(rows, return_inverse=True, return_counts=True)
+        inverse = inverse.ravel()
+        closed = bool((counts == 2).all())
+        paired = np.flatnonzero(counts[inverse] == 2)
+        pairs = paired[np.argsort(inverse[paired], kind="stable")].reshape(-1, 2)
+        wound = bool((edges[pairs[:, 0], 1] == edges[pairs[:, 1], 0]).all())
+        return closed, wound
+
+    def volume(self) -> float:
+        """The signed volume enclosed (mm³; positive for outward normals), by the divergence
+        theorem over the facets."""
+        triangles = self.triangles
+        summed = triangles[:, 0, 0] + triangles[:, 1, 0] + triangles[:, 2, 0]
+        return float((_crosses(triangles)[:, 0] * summed).sum() / 6.0)
+
+    def areas(self) -> Array:
+        """(F,) facet areas (mm²)."""
+        return _areas(_crosses(self.triangles))
+
+
+def read_stl(data: bytes) -> StlMesh:
+    """The binary STL *data* read back (coincident corners merged), as a reader would.
+
+    Raises
+    ------
+    ValueError
+        The data is not a binary STL of the length its face count gives.
+    """
+    count = -1
+    if len(data) >= _HEADER.itemsize:
+        count = int(np.frombuffer(data, dtype=_HEADER, count=1)["face_count"][0])
+    if count < 0 or len(data) != _HEADER.itemsize + count * _FACET.itemsize:
+        raise ValueError("not a binary STL of the length its face count gives")
+    facets = np.frombuffer(data, dtype=_FACET, offset=_HEADER.itemsize)
+    corners = facets["vertices"].reshape(-1, 3).astype(np.float64)
+    vertices, faces = merged(corners, np.arange(3 * count, dtype=np.int64).reshape(-1, 3))
+    return StlMesh(vertices, faces)
 
 
 def check_stl(data: bytes, expected_mm3: float, allowance_mm3: float,
-              mesh: Any = None) -> StlCheck:
+              mesh: StlMesh | None = None) -> StlCheck:
     """Read *data* back as a binary STL (or take its *mesh* already read) and check it (see
     :class:`StlCheck`)."""
     from camfab.export.mesh_quality import flaws
 
     if mesh is None:
         mesh = read_stl(data)
-    short, slivers = flaws(np.asarray(mesh.vertices, dtype=np.float64), np.asarray(mesh.faces))
+    short, slivers = flaws(mesh.vertices, mesh.faces)
+    closed, wound = mesh.edges()
     return StlCheck(
         faces=len(mesh.faces),
-        watertight=bool(mesh.is_watertight),
-        consistent_winding=bool(mesh.is_winding_consistent),
-        degenerate_faces=int(np.count_nonzero(mesh.area_faces <= DEGENERATE_AREA_MM2)),
+        watertight=closed,
+        consistent_winding=wound,
+        degenerate_faces=int(np.count_nonzero(mesh.areas() <= DEGENERATE_AREA_MM2)),
         short_edges=short,
         sliver_faces=slivers,
-        volume_mm3=float(mesh.volume),
+        volume_mm3=mesh.volume(),
         expected_volume_mm3=expected_mm3,
         volume_allowance_mm3=allowance_mm3,
     )

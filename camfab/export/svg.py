@@ -8,8 +8,8 @@ arcs taken to their extremes rather than their ends, with a margin.
 
 from __future__ import annotations
 
+from html import escape
 from typing import TYPE_CHECKING
-from xml.sax.saxutils import escape
 
 import numpy as np
 
@@ -81,7 +81,7 @@ def render_svg(design: Design, contours: Contours, pocket: Contours | None = Non
             f'height="{_num(height)}{unit}" viewBox="{_num(low[0] - pad)} {_num(-high[1] - pad)} '
             f'{_num(width)} {_num(height)}">')
     what = "CUT contours" + (" (red) and the groove's POCKET walls (blue)" if walls else "")
-    title = f"<title>{escape(design.name)}: {what}, {unit}</title>"
+    title = f"<title>{escape(design.name, quote=False)}: {what}, {unit}</title>"
     body = (f'<g fill="none" stroke="#d00000" stroke-width="{stroke}">'
             + "".join(shapes) + "</g>")
     if walls:
