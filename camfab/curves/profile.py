@@ -14,16 +14,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from camfab.arrays import Array, Index
+from camfab.curves.nearest import contour_distance
 from camfab.curves.plane import cross
 from camfab.curves.sampling import arc_points
 
 #: Two consecutive vertices closer than this (mm) are one point: far below any tolerance and far
 #: above the rounding of coordinates of cams up to metres in size.
 MERGE_DISTANCE = 1e-9
-
-#: Points measured at once by :meth:`Profile.distance`: the (points × pieces) arrays of a
-#: block stay in the processor's cache.
-_BLOCK = 512
 
 
 @dataclass(frozen=True)
@@ -123,36 +120,11 @@ class Profile:
         """Distance (mm) of each of (K, 2) *points* from the contour, arcs measured as arcs.
 
         The nearest point of the contour is a vertex, the foot of a perpendicular inside a
-        line, or the radial projection inside an arc's span; each kind is measured for all
-        pieces at once, a block of points at a time.
+        line, or the radial projection inside an arc's span; each point is measured against
+        the edges near it (:func:`camfab.curves.nearest.contour_distance`: the same numbers as
+        measuring every edge).
         """
-        return np.concatenate([self._distance(points[i:i + _BLOCK])
-                               for i in range(0, len(points), _BLOCK)] or [np.zeros(0)])
-
-    def _distance(self, points: Array) -> Array:
-        v = self.vertices
-        px, py = points[:, :1], points[:, 1:]
-        best = np.min((px - v[:, 0]) ** 2 + (py - v[:, 1]) ** 2, axis=1)
-        line = self.bulges == 0.0
-        if line.any():
-            ax, ay = v[line, 0], v[line, 1]
-            dx, dy = (np.roll(v, -1, axis=0)[line] - v[line]).T
-            length2 = np.maximum(dx * dx + dy * dy, 1e-300)
-            rx, ry = px - ax, py - ay
-            t = (rx * dx + ry * dy) / length2
-            across = (rx * dy - ry * dx) ** 2 / length2
-            best = np.minimum(best, np.min(np.where((t > 0) & (t < 1), across, np.inf), axis=1))
-        best = np.sqrt(best)
-        arcs = self.arcs()
-        if arcs.index.size:
-            rx, ry = px - arcs.centre[:, 0], py - arcs.centre[:, 1]
-            sx, sy = np.cos(arcs.start_angle), np.sin(arcs.start_angle)
-            # the angle from the arc's start to the point, turning the way the arc turns
-            turn = np.arctan2(sx * ry - sy * rx, sx * rx + sy * ry) * np.sign(arcs.sweep)
-            inside = np.mod(turn, 2 * np.pi) <= np.abs(arcs.sweep)
-            gap = np.abs(np.hypot(rx, ry) - arcs.radius)
-            best = np.minimum(best, np.min(np.where(inside, gap, np.inf), axis=1))
-        return best
+        return contour_distance(self, points)
 
     def points(self, tolerance: float, split_lines: bool = True) -> Array:
         """The contour as a closed chain of points (mm), in order, without a repeated closing

@@ -3,7 +3,8 @@
 A chord of length c on a curve of radius ρ strays ``c²/(8ρ)`` from it, so the points a curve needs
 per radian of parameter are ``|dC/dθ| / √(8|ρ|·tol)``. The sampler places points by that density
 and then measures every chord against the exact curve, halving those that stray further than the
-tolerance, until none does.
+tolerance, until none does. Many curves (the segments of a motion program) are sampled together:
+each round measures the chords of every curve halved in the round before, in one evaluation.
 """
 
 from __future__ import annotations
@@ -13,7 +14,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from camfab.arrays import Array
+from camfab.arrays import Array, Index, spaced
 from camfab.curves.plane import CurvePoints
 
 #: The share of ``manufacturing.tolerance`` spent on sampling the exact curves. The rest is left
@@ -62,34 +63,120 @@ def sample_curve(curve_at: Callable[[Array], CurvePoints], span: float,
     t, xy
         The parameters (increasing, from 0 to *span*) and points of the samples.
     """
-    grid = np.linspace(0.0, span, max(9, math.ceil(4 * span / MAX_STEP) + 1))
-    probe = curve_at(grid)
+    _, t, xy = sample_curves(lambda _, t: curve_at(t), np.array([float(span)]),
+                             np.array([float(tolerance)]))
+    return t, xy
+
+
+def sample_curves(curve_at: Callable[[Index, Array], CurvePoints], spans: Array,
+                  tolerances: Array) -> tuple[Index, Array, Array]:
+    """Sample many curves at once, each as :func:`sample_curve` samples it alone (the same
+    points): curve i over 0 ≤ t ≤ ``spans[i]`` within ``tolerances[i]``.
+
+    Parameters
+    ----------
+    curve_at
+        The exact curves: ``curve_at(i, t)`` is curve ``i[k]`` at parameter ``t[k]`` (rad) for
+        every k; each value must depend on its own (i, t) alone.
+    spans
+        (C,) parameter interval lengths (rad), positive.
+    tolerances
+        (C,) largest allowed distance between a chord and its curve (mm).
+
+    Returns
+    -------
+    index, t, xy
+        The curve of each sample, its parameter and its point (mm), curve by curve with t
+        increasing from 0 to the curve's span.
+    """
+    spans = np.asarray(spans, dtype=np.float64)
+    tolerances = np.asarray(tolerances, dtype=np.float64)
+    index, t = _density_spread(curve_at, spans, tolerances)
+    return _refine(curve_at, index, t, curve_at(index, t).xy, tolerances)
+
+
+def _density_spread(curve_at: Callable[[Index, Array], CurvePoints], spans: Array,
+                    tolerances: Array) -> tuple[Index, Array]:
+    """The first samples of each curve: parameters (rad) spread by the chord density the
+    curve's speed and radius ask for on a grid at most a quarter of :data:`MAX_STEP` apart."""
+    grid_count = np.maximum(9, np.ceil(4 * spans / MAX_STEP).astype(np.intp) + 1)
+    index, grid = spaced(spans, grid_count)
+    probe = curve_at(index, grid)
     with np.errstate(divide="ignore", invalid="ignore"):
-        density = probe.speed / np.sqrt(8.0 * np.abs(probe.radius) * tolerance)
+        density = probe.speed / np.sqrt(8.0 * np.abs(probe.radius) * tolerances[index])
     density = np.nan_to_num(density, nan=0.0, posinf=0.0)
     density = np.maximum(density, 1.0 / MAX_STEP)
-    cumulative = np.concatenate(([0.0], np.cumsum(0.5 * (density[1:] + density[:-1])
-                                                  * np.diff(grid))))
-    count = max(1, math.ceil(cumulative[-1]))
-    t = np.interp(np.linspace(0.0, cumulative[-1], count + 1), cumulative, grid)
-    t[0], t[-1] = 0.0, span
-    xy = curve_at(t).xy
+    inner = index[1:] == index[:-1]
+    area = (0.5 * (density[1:] + density[:-1]) * np.diff(grid))[inner]
+    # cumulative areas of each curve as numpy's cumsum adds them: one column per curve
+    table = np.zeros((int(grid_count.max()), len(spans)))
+    row = np.arange(index.size) - (np.cumsum(grid_count) - grid_count)[index]
+    table[row[1:][inner], index[1:][inner]] = area
+    cumulative = np.cumsum(table, axis=0)
+    total = cumulative[grid_count - 1, np.arange(len(spans))]
+    count = np.maximum(1, np.ceil(total).astype(np.intp))
+    owner, target = spaced(total, count + 1)
+    t = _interp_columns(target, owner, cumulative, grid, grid_count)
+    first = np.cumsum(count + 1) - (count + 1)
+    t[first] = 0.0
+    t[first + count] = spans
+    return owner, t
+
+
+def _interp_columns(x: Array, owner: Index, cumulative: Array, grid: Array,
+                    grid_count: Index) -> Array:
+    """``np.interp(x, xp, fp)`` for each x against its own curve's knots, with numpy's
+    arithmetic: xp the first ``grid_count`` rows of column *owner* of *cumulative* (increasing,
+    from 0), fp that curve's *grid* parameters (rad)."""
+    size = grid_count[owner]
+    below = _count_at_most(x, cumulative, owner, size)
+    j = np.clip(below - 1, 0, size - 2)
+    first = (np.cumsum(grid_count) - grid_count)[owner]
+    x0, x1 = cumulative[j, owner], cumulative[j + 1, owner]
+    y0, y1 = grid[first + j], grid[first + j + 1]
+    out = (y1 - y0) / (x1 - x0) * (x - x0) + y0
+    out = np.where(x0 == x, y0, out)
+    return np.where(below == size, grid[first + size - 1], out)
+
+
+def _count_at_most(x: Array, knots: Array, owner: Index, size: Index) -> Index:
+    """How many of the first *size* knots of column *owner* (increasing) are at most *x*: a
+    binary search of every x at once."""
+    lo, hi = np.zeros(x.size, dtype=np.intp), size.copy()
+    while True:
+        active = lo < hi
+        if not active.any():
+            return lo
+        mid = (lo + hi) // 2
+        step = active & (knots[np.where(active, mid, 0), owner] <= x)
+        lo = np.where(step, mid + 1, lo)
+        hi = np.where(active & ~step, mid, hi)
+
+
+def _refine(curve_at: Callable[[Index, Array], CurvePoints], index: Index, t: Array, xy: Array,
+            tolerances: Array) -> tuple[Index, Array, Array]:
+    """Halve every chord that strays further than its curve's tolerance (mm) from the curve,
+    round after round, measuring only the chords made in the previous round."""
+    fresh = np.append(index[1:] == index[:-1], False)  # a chord starts here, not yet measured
     for _ in range(_MAX_ROUNDS):
-        lo, hi = t[:-1], t[1:]
-        inner = (lo[:, None] + (hi - lo)[:, None] * _PROBES).ravel()
-        exact = curve_at(inner).xy.reshape(len(lo), len(_PROBES), 2)
-        start = np.repeat(xy[:-1], len(_PROBES), axis=0)
-        end = np.repeat(xy[1:], len(_PROBES), axis=0)
-        dev = chord_deviation(exact.reshape(-1, 2), start, end).reshape(len(lo), -1).max(axis=1)
-        bad = dev > tolerance
-        if not bad.any():
+        at = np.flatnonzero(fresh)
+        if not at.size:
             break
-        mid_t = 0.5 * (lo[bad] + hi[bad])
-        mid_xy = exact[bad, 1]
-        where = np.flatnonzero(bad) + 1
-        t = np.insert(t, where, mid_t)
-        xy = np.insert(xy, where, mid_xy, axis=0)
-    return t, xy
+        lo, hi = t[at], t[at + 1]
+        inner = (lo[:, None] + (hi - lo)[:, None] * _PROBES).ravel()
+        exact = curve_at(np.repeat(index[at], len(_PROBES)), inner).xy
+        exact = exact.reshape(len(lo), len(_PROBES), 2)
+        start = np.repeat(xy[at], len(_PROBES), axis=0)
+        end = np.repeat(xy[at + 1], len(_PROBES), axis=0)
+        dev = chord_deviation(exact.reshape(-1, 2), start, end).reshape(len(lo), -1).max(axis=1)
+        bad = dev > tolerances[index[at]]
+        fresh[at[~bad]] = False
+        where = at[bad] + 1
+        t = np.insert(t, where, 0.5 * (lo[bad] + hi[bad]))
+        xy = np.insert(xy, where, exact[bad, 1], axis=0)
+        index = np.insert(index, where, index[at[bad]])
+        fresh = np.insert(fresh, where, True)
+    return index, t, xy
 
 
 def arc_points(centre: Array, start: Array, sweep: float, tolerance: float) -> Array:

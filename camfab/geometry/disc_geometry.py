@@ -17,7 +17,7 @@ from camfab.arrays import Array, Index, Mask
 from camfab.curves.follower import FollowerGeometry
 from camfab.curves.plane import CurvePoints, offset_inward, signed_angle
 from camfab.curves.profile import MERGE_DISTANCE, Profile
-from camfab.curves.sampling import SAMPLING_SHARE, arc_points, sample_curve
+from camfab.curves.sampling import SAMPLING_SHARE, arc_points, sample_curves
 from camfab.geometry.disc import DiscCam, FaceLines
 from camfab.geometry.simulate import simulate
 from camfab.geometry.undercut import (
@@ -28,7 +28,7 @@ from camfab.geometry.undercut import (
     outside_circle_sweep,
     trim_loops,
 )
-from camfab.motion.program import MotionProgram, ProgramSegment, cycle_angles
+from camfab.motion.program import MotionProgram, cycle_angles
 
 if TYPE_CHECKING:
     from camfab.design import Design
@@ -150,8 +150,8 @@ def sample_closed(cam: DiscCam, program: MotionProgram,
                   curve: Literal["pitch", "working", "outer"],
                   tolerance: float | Array) -> Sampled:
     """The closed pitch or working curve sampled within *tolerance* (mm; one value, or one per
-    segment), segment by segment; ``outer`` is the pitch curve offset outward by the follower's
-    radius (a groove cam's outer wall).
+    segment), segment by segment (every segment sampled at once); ``outer`` is the pitch curve
+    offset outward by the follower's radius (a groove cam's outer wall).
 
     Where a roller's pitch curve has a corner (a velocity step at a joint), the working curve is
     joined by the arc the roller rolls over the corner; a flat face's contact points are joined
@@ -160,31 +160,47 @@ def sample_closed(cam: DiscCam, program: MotionProgram,
     evaluators: dict[str, Callable[[Array, Array], CurvePoints]] = {
         "pitch": cam.pitch, "working": cam.working, "outer": partial(outer_wall, cam)}
     evaluator = evaluators[curve]
-    thetas, points = [], []
-    segments = program.segments
-    tolerances = np.broadcast_to(np.asarray(tolerance, dtype=np.float64), (len(segments),))
-    for i, seg in enumerate(segments):
-        t, xy = sample_curve(partial(_on_segment, evaluator, seg), seg.span,
-                             float(tolerances[i]))
-        thetas.append(seg.start + t)
-        points.append(xy)
-        nxt = segments[(i + 1) % len(segments)]
-        if curve != "pitch" and cam.follower.radius > 0.0:
-            joint = np.array([nxt.start])
-            m_right = nxt.evaluate_local(np.zeros(1))
-            start = xy[-1]
-            end = evaluator(joint, m_right).xy[0]
-            if np.hypot(*(end - start)) > MERGE_DISTANCE:
-                centre = cam.pitch(joint, m_right).xy[0]
-                sweep = float(signed_angle((start - centre)[None], (end - centre)[None])[0])
-                arc = arc_points(centre, start, sweep, float(tolerances[i]))[1:-1]
-                thetas.append(np.full(len(arc), nxt.start))
-                points.append(arc)
-    theta = np.concatenate(thetas)
-    xy = np.concatenate(points)
+    table = program.table
+    tolerances = np.broadcast_to(np.asarray(tolerance, dtype=np.float64), table.span.shape)
+
+    def curve_at(index: Index, t: Array) -> CurvePoints:
+        return evaluator(table.start[index] + t, program.evaluate_local(index, t))
+
+    index, t, xy = sample_curves(curve_at, table.span, tolerances)
+    theta = table.start[index] + t
+    if curve != "pitch" and cam.follower.radius > 0.0:
+        theta, xy = _corner_arcs(cam, program, evaluator, index, theta, xy, tolerances)
     step = np.hypot(*(np.roll(xy, -1, axis=0) - xy).T)
     keep = step > MERGE_DISTANCE
     return Sampled(theta[keep], xy[keep])
+
+
+def _corner_arcs(cam: DiscCam, program: MotionProgram,
+                 evaluator: Callable[[Array, Array], CurvePoints], index: Index, theta: Array,
+                 xy: Array, tolerances: Array) -> tuple[Array, Array]:
+    """The sampled curve (θ in rad, points in mm, segment by segment; segment *index*) with the
+    arc the roller rolls over each corner of the pitch curve put after the segment before it:
+    where a segment's last point and the next segment's first are further apart than
+    :data:`MERGE_DISTANCE`, the arc about the pitch point of the joint, within that segment's
+    tolerance (mm), its ends left out."""
+    count = len(program.segments)
+    after = np.roll(np.arange(count), -1)  # the segment each joint starts
+    joint = program.table.start[after]
+    m_right = program.evaluate_local(after, np.zeros(count))
+    last = np.flatnonzero(np.append(index[1:] != index[:-1], True))  # each segment's last point
+    start = xy[last]
+    end = evaluator(joint, m_right).xy
+    corner = np.flatnonzero(np.hypot(*(end - start).T) > MERGE_DISTANCE)
+    if not corner.size:
+        return theta, xy
+    centre = cam.pitch(joint[corner], m_right[:, corner]).xy
+    sweep = signed_angle(start[corner] - centre, end[corner] - centre)
+    arcs = [arc_points(centre[k], start[i], float(sweep[k]), float(tolerances[i]))[1:-1]
+            for k, i in enumerate(corner)]
+    sizes = [len(arc) for arc in arcs]
+    where = np.repeat(last[corner] + 1, sizes)
+    return (np.insert(theta, where, np.repeat(joint[corner], sizes)),
+            np.insert(xy, where, np.concatenate(arcs), axis=0))
 
 
 def outer_wall(cam: DiscCam, theta: Array, m: Array) -> CurvePoints:
@@ -192,12 +208,6 @@ def outer_wall(cam: DiscCam, theta: Array, m: Array) -> CurvePoints:
     a groove (its radius of curvature ρ_p + radius, running backwards where a concave ρ_p is
     smaller in size than the radius)."""
     return offset_inward(cam.pitch(theta, m), cam.sigma, -cam.follower.radius)
-
-
-def _on_segment(evaluator: Callable[[Array, Array], CurvePoints], seg: ProgramSegment,
-                t: Array) -> CurvePoints:
-    """A curve at *t* radians into segment *seg*."""
-    return evaluator(seg.start + t, seg.evaluate_local(t))
 
 
 def _keep_test(cam: DiscCam, pitch: Sampled, dense: DenseCurves, slack: float) -> KeepTest:

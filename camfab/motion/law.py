@@ -30,7 +30,8 @@ class Law(ABC):
 
     @abstractmethod
     def evaluate(self, u: ArrayLike) -> Array:
-        """f, f′, f″, f‴ at *u*: an array of shape (4, len(u)).
+        """f, f′, f″, f‴ at *u*: an array of shape (4, len(u)), each column computed from its
+        own u alone (a program evaluates the segments that share a law in one call).
 
         At a breakpoint where a derivative steps, the value from the piece to the right is
         returned (the limit from increasing u), except at u = 1 where the last piece applies.
@@ -46,7 +47,10 @@ class Law(ABC):
             raise ValueError(f"order must be 1, 2 or 3 (got {order})")
         if self.inner_step_order is not None and order > self.inner_step_order:
             return math.inf
-        return self._peaks()[order - 1]
+        peaks = self.__dict__.get("_peak_values")
+        if peaks is None:  # a law does not change: its peaks are found once
+            peaks = self.__dict__["_peak_values"] = self._peaks()
+        return peaks[order - 1]
 
     @property
     def coefficients(self) -> tuple[float, float, float]:

@@ -8,6 +8,7 @@ returns the value just after it (the limit from increasing θ).
 
 from __future__ import annotations
 
+import functools
 import itertools
 import math
 from collections.abc import Sequence
@@ -17,7 +18,7 @@ from typing import Any, Protocol
 import numpy as np
 from numpy.typing import ArrayLike
 
-from camfab.arrays import Index
+from camfab.arrays import Index, spaced
 from camfab.motion.law import Array, Law
 from camfab.motion.laws import DWELL, standard_law
 from camfab.motion.polynomial import Condition, SingularConditionsError, solve_polynomial
@@ -120,6 +121,35 @@ class Joint:
     right: Array
 
 
+@dataclass(frozen=True)
+class SegmentTable:
+    """The segments of a program as arrays, for evaluating many segments at once: start angle
+    and span (rad), start lift s₀ (mm or rad), the scale Δ/βⁿ of each derivative n = 0…3 of
+    the law (per radianⁿ), and which of the distinct *laws* each segment follows."""
+
+    start: Array
+    span: Array
+    s0: Array
+    scale: Array
+    law: Index
+    laws: tuple[Law, ...]
+
+    @classmethod
+    def of(cls, segments: Sequence[ProgramSegment]) -> SegmentTable:
+        laws: dict[int, int] = {}
+        for seg in segments:
+            laws.setdefault(id(seg.law), len(laws))
+        distinct = {id(seg.law): seg.law for seg in segments}
+        # the scale as ProgramSegment.evaluate_local computes it, so the values are the same
+        scale = [seg.delta / seg.span ** np.arange(4) for seg in segments]
+        return cls(np.array([seg.start for seg in segments]),
+                   np.array([seg.span for seg in segments]),
+                   np.array([seg.s0 for seg in segments]),
+                   np.array(scale).reshape(len(segments), 4),
+                   np.array([laws[id(seg.law)] for seg in segments], dtype=np.intp),
+                   tuple(distinct[key] for key in laws))
+
+
 class MotionProgram:
     """A periodic follower motion over one turn of the cam."""
 
@@ -127,18 +157,38 @@ class MotionProgram:
         self.segments = tuple(segments)
         self._starts = np.array([seg.start for seg in self.segments])
 
+    @functools.cached_property
+    def table(self) -> SegmentTable:
+        """The segments as arrays (built on first use)."""
+        return SegmentTable.of(self.segments)
+
+    def evaluate_local(self, index: Index, t: ArrayLike) -> Array:
+        """s, s′, s″, s‴ at *t* radians into segments *index* (both (N,), 0 ≤ t ≤ span),
+        as (4, N): the values :meth:`ProgramSegment.evaluate_local` gives, computed with one
+        call of each law the segments follow (a law's values at u depend on u alone)."""
+        table = self.table
+        index = np.asarray(index, dtype=np.intp)
+        u = np.asarray(t, dtype=np.float64) / table.span[index]
+        law = table.law[index]
+        order = np.argsort(law, kind="stable")
+        bounds = np.searchsorted(law[order], np.arange(len(table.laws) + 1))
+        f = np.empty((4, u.size))
+        for k, rule in enumerate(table.laws):
+            picked = order[bounds[k] : bounds[k + 1]]
+            if picked.size:
+                f[:, picked] = rule.evaluate(u[picked])
+        out = f * table.scale[index].T
+        out[0] += table.s0[index]
+        return out
+
     def segment_grid(self, step: float) -> tuple[Index, Array, Array]:
         """Cam angles at most *step* (rad) apart, segment by segment with both ends of each
         (so a joint appears twice, with each segment's one-sided values): the segment index
         and angle (N,) and s, s′, s″, s‴ there (4, N)."""
-        parts_theta, parts_seg, parts_m = [], [], []
-        for seg in self.segments:
-            t = np.linspace(0.0, seg.span, max(3, math.ceil(seg.span / step) + 1))
-            parts_theta.append(seg.start + t)
-            parts_seg.append(np.full(t.size, seg.index))
-            parts_m.append(seg.evaluate_local(t))
-        return (np.concatenate(parts_seg), np.concatenate(parts_theta),
-                np.concatenate(parts_m, axis=1))
+        span = self.table.span
+        count = np.maximum(3, np.ceil(span / step).astype(np.intp) + 1)
+        index, t = spaced(span, count)
+        return index, self.table.start[index] + t, self.evaluate_local(index, t)
 
     def evaluate(self, theta: ArrayLike) -> Array:
         """s, s′, s″, s‴ at cam angles *theta* (rad, any value: wrapped to one turn).
@@ -147,19 +197,14 @@ class MotionProgram:
         """
         theta = np.mod(np.atleast_1d(np.asarray(theta, dtype=np.float64)), TWO_PI)
         index = np.clip(np.searchsorted(self._starts, theta, side="right") - 1, 0, None)
-        out = np.empty((4, theta.size))
-        order = np.argsort(index, kind="stable")
-        bounds = np.searchsorted(index[order], np.arange(len(self.segments) + 1))
-        for i, seg in enumerate(self.segments):
-            picked = order[bounds[i] : bounds[i + 1]]
-            if picked.size:
-                out[:, picked] = seg.evaluate_local(theta[picked] - seg.start)
-        return out
+        return self.evaluate_local(index, theta - self._starts[index])
 
     def joints(self) -> list[Joint]:
         """Every boundary between segments, including the wrap from the last to the first."""
-        ends = [seg.end_values() for seg in self.segments]
         n = len(self.segments)
+        # each segment's end_values(), all at once: (n, 2, 4)
+        t = np.stack((np.zeros(n), self.table.span), axis=1).ravel()
+        ends = self.evaluate_local(np.repeat(np.arange(n), 2), t).T.reshape(n, 2, 4)
         return [
             Joint(self.segments[i].start, (i - 1) % n, i, ends[(i - 1) % n][1], ends[i][0])
             for i in range(n)
