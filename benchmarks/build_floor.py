@@ -1,7 +1,7 @@
 """A disc cam's and a drum cam's whole build against the import floor of the libraries no build
 can do without.
 
-    python benchmarks/build_floor.py [--runs N]
+    python benchmarks/build_floor.py [--runs N] [--before CHECKOUT]
 
 Each build is ``camfab build DESIGN`` in a fresh process, as a user runs it, with every output
 (DXF, SVG, STL, HTML and JSON report, motion CSV) and the verification that reads the files
@@ -11,6 +11,9 @@ first, as ``pip install`` leaves it. The floor and the builds run in turn, N tim
 the medians are compared, all in one run (the machine is shared: only ratios from one run
 mean anything).
 
+With ``--before``, the same builds of another checkout of camfab (its folder, put first on
+``PYTHONPATH``) run in the same rounds, for the numbers before a change next to those after.
+
 Targets: the disc build (designs/seed-10-4.yaml) at most 1.5× the floor and under 1.0 s; the
 drum build (designs/demo-cylindrical.yaml) at most 1.8× the floor.
 """
@@ -18,9 +21,12 @@ drum build (designs/demo-cylindrical.yaml) at most 1.8× the floor.
 from __future__ import annotations
 
 import argparse
+import os
 import statistics
+import subprocess
 import sys
 import tempfile
+import time
 from pathlib import Path
 
 from timing import ROOT, compile_package, wall
@@ -31,29 +37,52 @@ BUILDS = (("disc", ROOT / "designs" / "seed-10-4.yaml", 1.5, 1.0),
           ("drum", ROOT / "designs" / "demo-cylindrical.yaml", 1.8, None))
 
 
+def _wall(command: list[str], env: dict[str, str] | None) -> float:
+    """Seconds *command* takes in the environment *env* (None: this one), run from the
+    checkout *env* puts on ``PYTHONPATH`` (``python -m`` puts its folder first on the path)."""
+    if env is None:
+        return wall(command)
+    start = time.perf_counter()
+    subprocess.run(command, check=False, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                   cwd=env["PYTHONPATH"], env=env)
+    return time.perf_counter() - start
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--runs", type=int, default=9)
+    parser.add_argument("--before", type=Path, help="another checkout of camfab to time too")
     options = parser.parse_args()
     compile_package()
     floor_cmd = [sys.executable, "-c", FLOOR]
     times: dict[str, list[float]] = {"floor": []}
     with tempfile.TemporaryDirectory() as folder:
-        commands = {"floor": floor_cmd}
+        commands: dict[str, tuple[list[str], dict[str, str] | None]] = {"floor": (floor_cmd,
+                                                                                   None)}
         for label, design, _, _ in BUILDS:
-            commands[label] = [sys.executable, "-m", "camfab", "build", str(design), "-o",
-                               str(Path(folder) / label)]
-            times[label] = []
-        for command in commands.values():
-            wall(command)  # warm the file cache
+            build = [sys.executable, "-m", "camfab", "build", str(design), "-o"]
+            commands[label] = ([*build, str(Path(folder) / label)], None)
+            if options.before is not None:
+                env = {**os.environ, "PYTHONPATH": str(options.before.resolve())}
+                commands[f"{label} before"] = ([*build, str(Path(folder) / f"{label}-0")], env)
+        if options.before is not None:
+            subprocess.run([sys.executable, "-m", "compileall", "-q",
+                            str(options.before / "camfab")], check=True)
+        times = {label: [] for label in commands}
+        for command, env in commands.values():
+            _wall(command, env)  # warm the file cache
         for _ in range(options.runs):
-            for label, command in commands.items():
-                times[label].append(wall(command))
+            for label, (command, env) in commands.items():
+                times[label].append(_wall(command, env))
     floor = statistics.median(times["floor"])
     print(f"floor ({FLOOR}): {floor:.3f} s (median of {options.runs}, "
           f"min {min(times['floor']):.3f})")
     ok = True
     for label, design, most, seconds in BUILDS:
+        if options.before is not None:
+            before = statistics.median(times[f"{label} before"])
+            print(f"{label} build before ({design.name}): {before:.3f} s "
+                  f"(min {min(times[f'{label} before']):.3f}); {before / floor:.2f}× the floor")
         build = statistics.median(times[label])
         ratio = build / floor
         met = ratio <= most and (seconds is None or build < seconds)
