@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Literal
+from typing import TYPE_CHECKING, ClassVar, Literal
 
 from camfab.design.rules import MIN_NOSE_SHARE, MIN_SEGMENT_DEG, MIN_WALL_MM, fail, mm
 
@@ -124,15 +124,12 @@ class CamTypeSpec:
         raise TypeError(f"a {self.name} cam's motion is not defined by its shape")
 
 
-@dataclass(frozen=True)
 class _Shaped(CamTypeSpec):
     """A cam drawn from its shape (circular-arc, tangent): the shape defines the motion, and
     the follower moves along a line through the cam centre."""
 
-    shaped: bool = True
-    translating_only: bool = True
     #: The two keys either of which completes the shape: (first, second).
-    either: tuple[str, str] = ("nose_radius", "flank_angle")
+    either: ClassVar[tuple[str, str]] = ("nose_radius", "flank_angle")
 
     def check_cam(self, design: Design) -> None:
         """The dimensions must make one such cam (nose, flanks and base circle all there)."""
@@ -170,7 +167,6 @@ class _Shaped(CamTypeSpec):
 
 
 
-@dataclass(frozen=True)
 class _CircularArc(_Shaped):
     """The circular-arc cam: base circle, two flank arcs and a nose arc."""
 
@@ -183,11 +179,10 @@ class _CircularArc(_Shaped):
                                       cam.nose_radius, cam.flank_angle, cam.top_dwell)
 
 
-@dataclass(frozen=True)
 class _Tangent(_Shaped):
     """The tangent cam: base circle, two straight flanks and a nose arc."""
 
-    either: tuple[str, str] = ("lift_angle", "nose_radius")
+    either: ClassVar[tuple[str, str]] = ("lift_angle", "nose_radius")
 
     def shape(self, cam: Cam) -> ShapedCam:
         from camfab.curves.shaped import ShapedCam
@@ -197,23 +192,10 @@ class _Tangent(_Shaped):
                                  cam.top_dwell)
 
 
-@dataclass(frozen=True)
-class _Disc(CamTypeSpec):
-    """The disc (plate) cam."""
-
-    disc_curves: bool = True
-
-
-@dataclass(frozen=True)
 class _Drum(CamTypeSpec):
     """The cylindrical (drum) cam: a groove round a drum, its bore checked against the groove's
     root."""
 
-    bore_within: str | None = None
-    keyway_within: str | None = "radius"
-    translating_only: bool = True
-    translating_keys: tuple[str, ...] = ("groove_clearance",)
-    oscillating_keys: tuple[str, ...] = ("groove_clearance",)
 
     def surface(self, design: Design, program: MotionProgram) -> float:
         """The drum's surface."""
@@ -245,14 +227,9 @@ class _Drum(CamTypeSpec):
                      f"outside the drum's length less {MIN_WALL_MM:g} mm walls")
 
 
-@dataclass(frozen=True)
 class _Groove(CamTypeSpec):
     """The face-groove cam: a groove milled into a plate's face holds the roller both ways."""
 
-    disc_curves: bool = True
-    positive_drive: bool = True
-    translating_keys: tuple[str, ...] = ("groove_clearance",)
-    oscillating_keys: tuple[str, ...] = ("groove_clearance",)
 
     def check_cam(self, design: Design) -> None:
         """The groove is a pocket: it must leave a floor under it."""
@@ -277,14 +254,9 @@ class _Groove(CamTypeSpec):
                      "pivot_distance + arm_length")
 
 
-@dataclass(frozen=True)
 class _Conjugate(CamTypeSpec):
     """The conjugate pair: two plates on one shaft, each driving one roller of the follower."""
 
-    disc_curves: bool = True
-    positive_drive: bool = True
-    translating_keys: tuple[str, ...] = ("roller_spacing",)
-    oscillating_keys: tuple[str, ...] = ("arm_angle",)
 
     def check_follower(self, design: Design) -> None:
         """The second roller's place: along the follower, or the bell-crank's second arm."""
@@ -297,14 +269,10 @@ class _Conjugate(CamTypeSpec):
                  "angle at the pivot between the bell-crank's two arms)", show_got=False)
 
 
-@dataclass(frozen=True)
 class _ConstantBreadth(CamTypeSpec):
     """The constant-breadth (or constant-diameter) cam: two faces or two rollers on opposite
     sides, the same distance apart all round; only the first half turn of the motion is free."""
 
-    disc_curves: bool = True
-    positive_drive: bool = True
-    translating_only: bool = True
 
     def check_follower(self, design: Design) -> None:
         fol = design.follower
@@ -340,15 +308,10 @@ class _ConstantBreadth(CamTypeSpec):
         return super().program(design)
 
 
-@dataclass(frozen=True)
 class _Linear(CamTypeSpec):
     """The linear (translating, wedge) cam: a plate sliding along X; its segments give their
     travel along the cam, which sum to its stroke."""
 
-    span: Literal["angle", "travel"] = "travel"
-    translating_only: bool = True
-    bore_within: str | None = None
-    keyway_within: str | None = None
 
     def check_cam(self, design: Design) -> None:
         """The plate must stand under the follower at its lowest."""
@@ -398,29 +361,41 @@ class _Linear(CamTypeSpec):
         return build_program(specs)  # type: ignore[arg-type]
 
 
+#: The facts of the cam types that share them.
+_SHAPED = {"shaped": True, "translating_only": True}
+_POSITIVE_PLATE = {"disc_curves": True, "positive_drive": True}
+_GROOVE_KEYS = {"translating_keys": ("groove_clearance",),
+                "oscillating_keys": ("groove_clearance",)}
+
 #: ``cam.type`` -> its row, in the order the design file's messages list the types.
 CAM_TYPES: dict[str, CamTypeSpec] = {spec.name: spec for spec in (
-    _Disc("disc", "camfab.kinds.disc", (*_TURNING, "base_radius", *_BLANK), ("base_radius",),
-          _ANY_FOLLOWER),
+    CamTypeSpec("disc", "camfab.kinds.disc", (*_TURNING, "base_radius", *_BLANK), ("base_radius",),
+                _ANY_FOLLOWER, disc_curves=True),
     _Drum("cylindrical", "camfab.kinds.drum",
           (*_TURNING, "radius", "length", "groove_depth", "groove_start", "bore"),
-          ("radius", "length", "groove_depth"), ("roller",)),
+          ("radius", "length", "groove_depth"), ("roller",), **_GROOVE_KEYS,
+          translating_only=True, bore_within=None, keyway_within="radius"),
     _CircularArc("circular-arc", "camfab.kinds.shaped",
                  (*_TURNING, "base_radius", "lift", "lift_angle", "nose_radius", "flank_angle",
-                  "top_dwell", *_BLANK), ("base_radius", "lift", "lift_angle"), _ANY_FOLLOWER),
+                  "top_dwell", *_BLANK), ("base_radius", "lift", "lift_angle"), _ANY_FOLLOWER,
+                 **_SHAPED),
     _Tangent("tangent", "camfab.kinds.shaped",
              (*_TURNING, "base_radius", "lift", "lift_angle", "nose_radius", "top_dwell",
-              *_BLANK), ("base_radius", "lift"), _ANY_FOLLOWER),
+              *_BLANK), ("base_radius", "lift"), _ANY_FOLLOWER, **_SHAPED),
     _Groove("groove", "camfab.kinds.groove",
             (*_TURNING, "base_radius", "thickness", "groove_depth", "outer_radius", "bore",
-             "keyway"), ("base_radius", "thickness", "groove_depth"), ("roller",)),
+             "keyway"), ("base_radius", "thickness", "groove_depth"), ("roller",),
+            **_GROOVE_KEYS, **_POSITIVE_PLATE),
     _Conjugate("conjugate", "camfab.kinds.pair:CONJUGATE", (*_TURNING, "base_radius", *_BLANK),
-               ("base_radius",), ("roller",)),
+               ("base_radius",), ("roller",), translating_keys=("roller_spacing",),
+               oscillating_keys=("arm_angle",), **_POSITIVE_PLATE),
     _ConstantBreadth("constant-breadth", "camfab.kinds.pair:CONSTANT_BREADTH",
-                     (*_TURNING, "base_radius", *_BLANK), ("base_radius",), ("flat", "roller")),
+                     (*_TURNING, "base_radius", *_BLANK), ("base_radius",), ("flat", "roller"),
+                     translating_only=True, **_POSITIVE_PLATE),
     _Linear("linear", "camfab.kinds.linear", ("type", "speed_rpm", "stroke", "base_height",
                                               "thickness"), ("stroke", "base_height"),
-            ("roller", "knife"), follower_hints=(
+            ("roller", "knife"), span="travel", translating_only=True, bore_within=None,
+            keyway_within=None, follower_hints=(
                 ("flat", "a flat face perpendicular to its motion rests on the highest point "
                          "of a cam sliding under it, so a linear cam cannot move it"),)),
 )}
