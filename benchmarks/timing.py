@@ -22,10 +22,28 @@ def compile_package() -> None:
 
 def wall(args: list[str]) -> float:
     """Seconds a command takes, run from the repository with its output discarded."""
+    return wall_and_cpu(args)[0]
+
+
+def wall_and_cpu(args: list[str]) -> tuple[float, float]:
+    """Seconds a command takes, run from the repository with its output discarded, and the
+    processor seconds (user and system) it and its children used (0 where the platform does not
+    count them)."""
+    before = _children_cpu()
     start = time.perf_counter()
     subprocess.run(args, check=False, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
                    cwd=ROOT)
-    return time.perf_counter() - start
+    return time.perf_counter() - start, _children_cpu() - before
+
+
+def _children_cpu() -> float:
+    """Processor seconds used so far by the waited-for children of this process."""
+    try:
+        import resource
+    except ImportError:  # not on Windows
+        return 0.0
+    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return usage.ru_utime + usage.ru_stime
 
 
 def use_checkout() -> None:

@@ -1,19 +1,24 @@
 """Batches of designs: run one task per design file, in parallel processes when asked, and sum up.
 
 A failure of one design (invalid, or a failed check) never stops the others; the batch's exit
-status is the worst of them. Worker processes live for the whole batch, so each imports the
-libraries once, not once per design. Results are reported in the order the designs were given,
-whatever order they finish in; a progress bar on stderr counts them as they finish.
+status is the worst of them. Worker processes live for the whole batch. Where the platform
+forks (Linux; not macOS), the batch's process imports what the task needs once, and the workers
+are forked from it with all of it imported; elsewhere each worker imports the libraries itself,
+once for the whole batch. Results are reported in the order the designs were given, whatever order
+they finish in; a progress bar on stderr counts them as they finish.
 """
 
 from __future__ import annotations
 
 import time
 from collections.abc import Callable, Iterator, Sequence
-from contextlib import contextmanager
+from contextlib import contextmanager, suppress
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from concurrent.futures import ProcessPoolExecutor
 
 #: A batch of at least this many designs shows a progress bar when stderr is a terminal.
 PROGRESS_FROM = 8
@@ -49,9 +54,11 @@ def _timed(task: Task, path: str, out_dir: Path | None) -> Outcome:
 
 
 def run_all(paths: Sequence[str], out_dir: Path | None, jobs: int, task: Task,
-            progress: bool = False) -> list[Outcome]:
+            progress: bool = False, preload: Callable[[], object] | None = None) -> list[Outcome]:
     """*task* on every design of *paths*, in *jobs* worker processes (1: in this process), the
-    outcomes in the order of *paths*; *progress* shows a bar on stderr."""
+    outcomes in the order of *paths*; *progress* shows a bar on stderr. *preload* imports what
+    *task* needs: called once in this process before the workers are forked from it, when
+    workers run and the platform forks (see :func:`_pool`)."""
     bar = _bar(len(paths)) if progress else None
     try:
         if jobs == 1 or len(paths) == 1:
@@ -61,10 +68,10 @@ def run_all(paths: Sequence[str], out_dir: Path | None, jobs: int, task: Task,
                 if bar is not None:
                     bar.update(1)
             return outcomes
-        from concurrent.futures import ProcessPoolExecutor, as_completed
+        from concurrent.futures import as_completed
 
         results: list[Outcome | None] = [None] * len(paths)
-        pool = ProcessPoolExecutor(max_workers=min(jobs, len(paths)), initializer=_worker)
+        pool = _pool(min(jobs, len(paths)), preload)
         try:
             with _signals_held():  # the pool is set up whole; the workers ignore Ctrl-C
                 futures = {pool.submit(_timed, task, path, out_dir): i
@@ -84,6 +91,37 @@ def run_all(paths: Sequence[str], out_dir: Path | None, jobs: int, task: Task,
     finally:
         if bar is not None:
             bar.render_finish()
+
+
+def _pool(workers: int, preload: Callable[[], object] | None) -> ProcessPoolExecutor:
+    """A pool of *workers* processes, forked from this one after *preload* where the platform
+    forks: they start with what *preload* imported instead of each importing it again, and with
+    this process's signal handlers, as :func:`_worker` expects.
+
+    Forking is safe because *preload* only imports: no thread of this process is left running
+    that a worker could inherit holding a lock. A stopping signal waits for *preload* to end (a
+    fraction of a second): raised inside an import, it can be printed as ignored there, or leave
+    half-made objects that complain on the way out. What is loaded by then is frozen out of the
+    garbage collector's reach (:func:`gc.freeze`): the workers' collections skip it, and this
+    process, which ends with the batch, does not sweep it again on the way out.
+
+    Without fork, and on macOS, whose system libraries are not safe to fork, the platform's
+    default start (spawn): each worker imports what it needs itself."""
+    import gc
+    import multiprocessing
+    import sys
+    from concurrent.futures import ProcessPoolExecutor
+
+    context = None
+    if "fork" in multiprocessing.get_all_start_methods() and sys.platform != "darwin":
+        if preload is not None:
+            # a stop waits for the imports (broken off, they leave noise); an import that fails
+            # fails again in each design's build, which reports it as that design's error
+            with _signals_held(), suppress(Exception):
+                preload()
+        gc.freeze()
+        context = multiprocessing.get_context("fork")
+    return ProcessPoolExecutor(max_workers=workers, mp_context=context, initializer=_worker)
 
 
 #: The signals that stop camfab (Ctrl-C, SIGTERM, SIGHUP), by name.

@@ -174,7 +174,7 @@ def build(designs: tuple[str, ...], out_dir: Path | None, jobs: int,
     start = time.perf_counter()
     refused = same_names(designs) if len(designs) > 1 else {}
     built = iter(run_all([p for i, p in enumerate(designs) if i not in refused], out_dir, jobs,
-                         _build_one, progress))
+                         _build_one, progress, _import_build))
     outcomes = [refused[i] if i in refused else next(built) for i in range(len(designs))]
     code = _finish(outcomes)
     if len(designs) > 1:
@@ -362,6 +362,13 @@ def _build_one(path: str, out_dir: Path | None) -> Outcome:
                        files=len(result.written))
 
     return _guarded(path, work)
+
+
+def _import_build() -> None:
+    """Import what :func:`_build_one` needs, building nothing (a batch's workers start with it)."""
+    from camfab.pipeline import import_build_modules
+
+    import_build_modules()
 
 
 def _check_one(path: str) -> Outcome:

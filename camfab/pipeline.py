@@ -285,3 +285,34 @@ def build(path: str | Path, out_dir: Path | None = None) -> BuildResult:
     folder = output_folder(design, out_dir)
     written = write_files(folder, artifacts.files)
     return BuildResult(artifacts.analysis or analysis, folder, written, artifacts.not_produced)
+
+
+#: The packages a build runs through, every layer under this module's.
+BUILD_PACKAGES = ("camfab.motion", "camfab.curves", "camfab.design", "camfab.geometry",
+                  "camfab.analysis", "camfab.export", "camfab.kinds")
+
+
+def import_build_modules() -> None:
+    """Import what building a design needs, and build nothing: every module of
+    :data:`BUILD_PACKAGES` (the kinds, the format writers, the analysis, the geometry, ...) with
+    the libraries they import as they load, then the libraries the format writers import when
+    first called, through their own loaders: ezdxf
+    (:func:`~camfab.export.ezdxf_import.load_ezdxf`) and Jinja2, the report's template compiled.
+    A library a module imports only inside a function, for one kind of cam or one output, is
+    left to the build that calls it.
+
+    A batch calls this once before it forks its workers, so that they start with all of it
+    instead of each importing it again. It computes nothing and leaves no thread running that a
+    fork would copy mid-work: numpy's BLAS starts its threads as it is imported, and stops them
+    itself before every fork; manifold3d starts its own only when it first computes."""
+    import pkgutil
+    from importlib import import_module
+
+    from camfab.export.ezdxf_import import load_ezdxf
+    from camfab.export.report_html import REPORT_TEMPLATE, page_template
+
+    for name in BUILD_PACKAGES:
+        for module in pkgutil.iter_modules(import_module(name).__path__, f"{name}."):
+            import_module(module.name)
+    load_ezdxf()
+    page_template(REPORT_TEMPLATE)

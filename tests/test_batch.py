@@ -9,10 +9,15 @@ to the next.
 from __future__ import annotations
 
 import filecmp
+import multiprocessing
 import os
 import subprocess
 import sys
 from pathlib import Path
+
+import pytest
+
+from camfab.batch import Outcome, run_all
 
 from .conftest import DESIGN_FILES, DESIGNS, run_cli
 
@@ -69,3 +74,37 @@ def test_one_design_prints_no_summary_and_a_long_batch_can_show_progress(tmp_pat
     assert "building" in shown.stderr
     quiet = run_cli("build", *designs, "--no-progress", "-o", "out", cwd=tmp_path)
     assert "building" not in quiet.stderr
+
+
+def _named(path: str, out_dir: Path | None) -> Outcome:
+    return Outcome(0, out=[f"{path} in process {os.getpid()}"])
+
+
+def test_only_a_parallel_batch_imports_ahead_for_its_workers() -> None:
+    """What the designs need is imported once in the batch's process, before the workers are
+    forked from it, and only when workers run: one design, or ``-j 1``, is built as it is."""
+    calls: list[int] = []
+    serial = run_all(["a", "b"], None, 1, _named, preload=lambda: calls.append(os.getpid()))
+    single = run_all(["a"], None, 2, _named, preload=lambda: calls.append(os.getpid()))
+    assert calls == []
+    assert [o.out for o in serial + single] == [[f"{p} in process {os.getpid()}"]
+                                                for p in ("a", "b", "a")]
+    parallel = run_all(["a", "b", "c"], None, 2, _named,
+                       preload=lambda: calls.append(os.getpid()))
+    assert [o.name for o in parallel] == ["a", "b", "c"]
+    assert all(o.out[0] != f"{o.name} in process {os.getpid()}" for o in parallel)
+    forks = "fork" in multiprocessing.get_all_start_methods() and sys.platform != "darwin"
+    assert calls == ([os.getpid()] if forks else [])
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc")
+def test_the_imports_ahead_of_a_batch_start_no_thread() -> None:
+    """The workers are forked from the process that imported what a build needs: a thread
+    running there then could hold a lock they would inherit taken. numpy's BLAS threads (which
+    stop themselves before a fork) are there before; nothing else may start one."""
+    code = ("import os, numpy; before = len(os.listdir('/proc/self/task')); "
+            "from camfab.pipeline import import_build_modules; import_build_modules(); "
+            "print(len(os.listdir('/proc/self/task')) - before)")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          check=True)
+    assert done.stdout.strip() == "0", done.stderr

@@ -86,6 +86,10 @@ def _verification(report: dict[str, Any]) -> list[tuple[str, str]]:
     return rows
 
 
+#: The package's template of the report page.
+REPORT_TEMPLATE = "report.html.j2"
+
+
 @cache
 def page_template(name: str) -> jinja2.Template:
     """The page template *name* of the package, compiled once per process (compiling costs a
@@ -110,7 +114,7 @@ def render_report_html(analysis: Analysis) -> bytes:
     follower = f"{design.follower.motion} {design.follower.type} follower"
     result = analysis.result
     kind = result.kind_name(design)
-    page = page_template("report.html.j2").render(
+    page = page_template(REPORT_TEMPLATE).render(
         version=__version__, name=design.name,
         description=design.description or f"{kind}, {follower}",
         exit_code=analysis.exit_code,
