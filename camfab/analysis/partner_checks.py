@@ -27,13 +27,46 @@ if TYPE_CHECKING:
     from camfab.motion.program import MotionProgram
 
 @dataclass(frozen=True)
+class Holder:
+    """What holds the follower on its other side, as the checks and the report name it."""
+
+    #: What the hold check says holds it ("the two rollers", "the yoke", ...).
+    what: str
+    #: The report's geometry key of the spacing: mm, or degrees for an angle.
+    spacing_key: str
+    #: The contact carrying the follower when s″ pushes it away from the cam centre (+1) and
+    #: when it pulls it back (−1).
+    outward: str
+    inward: str
+    #: What the hold of the files read back runs over.
+    outlines: str
+    #: True when the spacing is an angle (rad): the bell-crank's arms.
+    angular: bool = False
+
+
+#: A conjugate pair's translating follower, its two rollers on one slide.
+ROLLERS = Holder("the two rollers", "roller_spacing_mm", "cam a", "cam b",
+                 "the CUT outlines read back from the DXF files")
+#: An oscillating conjugate pair's bell-crank: its arms an angle apart.
+BELL_CRANK = Holder("the bell-crank's two rollers", "arm_angle_deg", "cam a", "cam b",
+                    "the CUT outlines read back from the DXF files", angular=True)
+#: A constant-breadth cam's yoke between two parallel faces, or two rollers.
+YOKE_FACES = Holder("the yoke", "breadth_mm", "upper face", "lower face",
+                    "the CUT outlines read back from the DXF")
+YOKE_ROLLERS = Holder("the yoke", "breadth_mm", "upper roller", "lower roller",
+                      "the CUT outlines read back from the DXF")
+
+
+@dataclass(frozen=True)
 class Partner:
     """What holds a positive-drive plate cam's follower on the other side.
 
     Attributes
     ----------
-    kind
-        ``conjugate`` (a second cam) or ``constant-breadth`` (the same cam half a turn on).
+    holder
+        What holds the follower on the other side: a conjugate pair's second cam and roller
+        (:data:`ROLLERS`, :data:`BELL_CRANK`), or the same cam half a turn on under a
+        constant-breadth cam's yoke (:data:`YOKE_FACES`, :data:`YOKE_ROLLERS`).
     spacing
         Conjugate: the rollers' distance along the follower (mm), or the angle between the
         bell-crank's arms (rad). Constant breadth: the distance between the yoke's faces or its
@@ -49,11 +82,9 @@ class Partner:
     contact
         Which side carries the follower over the cycle (+1 cam a or the upper face or roller,
         −1 the other), by the sign of its acceleration, with the force given a mass and speed.
-    flat
-        Constant breadth: the yoke's contacts are flat faces (else rollers).
     """
 
-    kind: str
+    holder: Holder
     spacing: float
     hold: Hold
     geometry: DiscGeometry | None = None
@@ -61,36 +92,18 @@ class Partner:
     numbers: CamNumbers | None = None
     mirror: bool = False
     contact: WallContact | None = None
-    flat: bool = False
 
     @property
     def sides(self) -> dict[int, str]:
         """The contact carrying the follower by the sign of s″: +1 pushes it away from the cam
         centre, −1 pulls it back."""
-        if self.kind == "conjugate":
-            return {1: "cam a", -1: "cam b"}
-        return {1: "upper face", -1: "lower face"} if self.yoke_faces else {
-            1: "upper roller", -1: "lower roller"}
-
-    @property
-    def yoke_faces(self) -> bool:
-        """True for a constant-breadth cam between two flat faces."""
-        return self.geometry is None and self.flat
-
-    @property
-    def hold_kind(self) -> str:
-        """What holds the follower: ``conjugate`` rollers, a ``bell-crank``'s or a yoke."""
-        return "bell-crank" if self.mirror else self.kind
+        return {1: self.holder.outward, -1: self.holder.inward}
 
     def report_geometry(self) -> dict[str, Any]:
         """The JSON report's geometry keys of the second contact (mm, deg)."""
-        out: dict[str, Any] = {}
-        if self.kind == "constant-breadth":
-            out["breadth_mm"] = self.spacing
-        elif self.mirror:
-            out["arm_angle_deg"] = math.degrees(self.spacing)
-        else:
-            out["roller_spacing_mm"] = self.spacing
+        holder = self.holder
+        out: dict[str, Any] = {
+            holder.spacing_key: math.degrees(self.spacing) if holder.angular else self.spacing}
         out.update({"hold_max_gap_mm": self.hold.max_gap,
                     "hold_max_interference_mm": self.hold.max_interference})
         contact = self.contact
@@ -142,15 +155,15 @@ def breadth_partner(analysis: Analysis) -> tuple[Partner, list[Finding]]:
     """What holds the follower on its other side in *analysis* of a constant-breadth cam (its
     own outline half a turn on, under the yoke's other face or roller), and the findings with
     the ``hold`` check."""
-    design, geom = analysis.design, analysis.geometry
+    geom = analysis.geometry
     assert geom is not None
     theta = cycle_angles(VERIFY_STEP)
     spacing = breadth(geom.cam, analysis.program.max_lift)
     held = hold(theta, spacing, (geom.profile, geom.cam), (geom.profile, geom.cam), math.pi)
-    partner = Partner("constant-breadth", spacing, held, contact=_load_contact(analysis),
-                      flat=geom.cam.follower.flat)
-    return partner, [*analysis.findings, hold_finding(design.cam.type, partner.hold,
-                                                      spacing, tolerance_of(analysis))]
+    holder = YOKE_FACES if geom.cam.follower.flat else YOKE_ROLLERS
+    partner = Partner(holder, spacing, held, contact=_load_contact(analysis))
+    return partner, [*analysis.findings, hold_finding(holder, partner.hold, spacing,
+                                                      tolerance_of(analysis))]
 
 
 def conjugate_partner(analysis: Analysis) -> tuple[Partner, list[Finding]]:
@@ -165,8 +178,9 @@ def conjugate_partner(analysis: Analysis) -> tuple[Partner, list[Finding]]:
     geom_b = plate_geometry(cam_b, program_b, design.manufacturing.tolerance)
     numbers_b = cam_numbers(geom_b, len(program_b.segments))
     held = hold(theta, spacing, (geom.profile, geom.cam), (geom_b.profile, cam_b))
-    partner = Partner("conjugate", spacing, held, geom_b, program_b, numbers_b,
-                      mirror=design.follower.oscillating, contact=contact)
+    partner = Partner(BELL_CRANK if design.follower.oscillating else ROLLERS, spacing, held,
+                      geom_b, program_b, numbers_b, mirror=design.follower.oscillating,
+                      contact=contact)
     findings_a: list[Finding] = []
     others: list[Finding] = []
     for f in analysis.findings:
@@ -175,7 +189,7 @@ def conjugate_partner(analysis: Analysis) -> tuple[Partner, list[Finding]]:
     findings_b = [replace(f, id=f.id + "_b", message="cam b: " + f.message)
                   for f in cam_findings(design, geom_b, numbers_b, program_b)]
     found = [*findings_a, *findings_b,
-             hold_finding(partner.hold_kind, held, spacing, tolerance_of(analysis)), *others]
+             hold_finding(partner.holder, held, spacing, tolerance_of(analysis)), *others]
     return partner, found
 
 
@@ -185,15 +199,14 @@ def tolerance_of(analysis: Analysis) -> float:
     return 2.0 * analysis.design.manufacturing.tolerance
 
 
-def hold_finding(kind: str, held: Hold, spacing: float, tolerance: float,
+def hold_finding(holder: Holder, held: Hold, spacing: float, tolerance: float,
                  checked_on: str = "the cam outlines as sampled") -> Finding:
     """Do the two contacts hold the follower, without gap or interference, within *tolerance*
-    (mm)? *spacing* is the rollers' or faces' distance (mm)."""
-    what = ("the two rollers" if kind == "conjugate" else "the yoke")
-    apart = (f"{fmt(math.degrees(spacing))}° apart" if kind == "bell-crank"
+    (mm)? *spacing* is the rollers' or faces' distance (mm), or the bell-crank's arms' angle
+    (rad)."""
+    what = holder.what
+    apart = (f"{fmt(math.degrees(spacing))}° apart" if holder.angular
              else f"{fmt(spacing)} mm apart")
-    if kind == "bell-crank":
-        what = "the bell-crank's two rollers"
     ok = held.worst <= tolerance
     detail = (f"{what} ({apart}) run over {checked_on}: largest gap "
               f"{fmt(held.max_gap)} mm, largest interference {fmt(held.max_interference)} mm "
@@ -215,6 +228,5 @@ def read_back_hold(analysis: Analysis, held: Hold) -> Finding:
     """The ``hold`` check of the cam outlines read back from the DXF files."""
     partner = analysis.partner
     assert partner is not None
-    return hold_finding(partner.hold_kind, held, partner.spacing, tolerance_of(analysis),
-                        "the CUT outlines read back from the DXF" +
-                        (" files" if partner.kind == "conjugate" else ""))
+    return hold_finding(partner.holder, held, partner.spacing, tolerance_of(analysis),
+                        partner.holder.outlines)
