@@ -44,8 +44,12 @@ _RECEIVED: list[int] = []
 def _raise_interrupted(signum: int, frame: Any) -> None:
     import signal
 
+    from camfab.stopping import defer
+
     if signum not in _RECEIVED:
         _RECEIVED.append(signum)
+    if defer(signum):  # raised again where the code that must not be broken into ends
+        return
     if _ignores_exceptions(frame):
         # raised here it would be printed as "Exception ignored" and lost: deliver the signal
         # again in a moment, when the main thread is back in ordinary code

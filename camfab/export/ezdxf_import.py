@@ -15,6 +15,8 @@ import sys
 import tempfile
 from types import ModuleType
 
+from camfab.stopping import deferred
+
 _HIDDEN = ("XDG_CONFIG_HOME", "EZDXF_CONFIG_FILE")
 
 
@@ -34,7 +36,8 @@ def load_ezdxf() -> ModuleType:
         try:
             if cwd is not None:
                 os.chdir(empty)
-            import ezdxf
+            with deferred():  # a stop raised inside leaves pyparsing's objects half made
+                import ezdxf
         finally:
             if cwd is not None:
                 os.chdir(cwd)

@@ -161,9 +161,12 @@ class StlFile:
 
 def render_stl(solid: Solid) -> StlFile:
     """The binary STL of *solid* (mm), built with manifold3d (see :func:`build`)."""
+    from camfab.stopping import deferred
+
     held: list[Any] = []
-    made = build(solid, held)
-    return StlFile(binary_stl(made), float(made.volume()), float(made.surface_area()))
+    with deferred():  # a stop raised while manifold3d works has aborted the process
+        made = build(solid, held)
+        return StlFile(binary_stl(made), float(made.volume()), float(made.surface_area()))
 
 
 def build(solid: Solid, held: list[Any]) -> Any:
