@@ -2,8 +2,8 @@
 
 A row (:class:`CamTypeSpec`) says what the design file takes for its type — the keys of its
 ``cam:`` section and those it requires, the followers it drives and the keys their section
-adds, how its motion is given (angles, travels, or the cam's own shape), what its body is (a
-plate or a drum on a shaft, or a slide) and whether it drives its follower both ways — holds
+adds, how its motion is given (angles, travels, or the cam's own shape), which radius a bore
+and a keyway must stay inside, and whether it drives its follower both ways — holds
 the design file's rules that belong to that type alone, and names the module of
 :mod:`camfab.kinds` that builds it (imported only when a design of the type is built). The
 design file's rules (:mod:`camfab.design.rules`) ask the row; none of them names a type.
