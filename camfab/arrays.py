@@ -1,5 +1,5 @@
 """Array type names used across camfab (float arrays, boolean masks and index arrays), the runs
-of a mask, and many evenly spaced ranges at once."""
+of a mask, many evenly spaced ranges at once, and the clusters that pairs of indices join."""
 
 from __future__ import annotations
 
@@ -31,3 +31,25 @@ def spaced(stop: Array, count: Index) -> tuple[Index, Array]:
     values = k * (stop / (count - 1))[index]
     values[first + count - 1] = stop
     return index, values
+
+
+def clusters(pairs: Index, count: int) -> tuple[int, Index]:
+    """The clusters of *count* points that *pairs* (K, 2) of indices join: their number, and
+    each point's cluster (0 up, numbered by the cluster's lowest point).
+
+    Each point takes the lowest label among its pairs' ends, then its label's label (so labels
+    halve their way to the lowest of a cluster), until nothing changes: a few rounds of whole
+    arrays."""
+    label = np.arange(count)
+    first, second = pairs[:, 0], pairs[:, 1]
+    while True:
+        lowest = np.minimum(label[first], label[second])
+        new = label.copy()
+        np.minimum.at(new, first, lowest)
+        np.minimum.at(new, second, lowest)
+        new = new[new]
+        if np.array_equal(new, label):
+            break
+        label = new
+    roots, numbered = np.unique(label, return_inverse=True)
+    return len(roots), numbered.ravel()

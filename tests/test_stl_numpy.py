@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 import trimesh
 
-from camfab.export.mesh_quality import clusters
+from camfab.arrays import clusters
 from camfab.export.stl import binary_stl, check_stl, read_stl, stl_bytes
 
 from .conftest import DESIGNS, EVERY_DESIGN, Built
@@ -90,7 +90,8 @@ def test_the_reader_refuses_a_file_of_the_wrong_length() -> None:
 
 
 def test_clusters_are_the_connected_components() -> None:
-    """Against scipy's connected components, on random graphs sparse and dense."""
+    """Against scipy's connected components, on random graphs sparse and dense (the STL's
+    sliver repair and the chaining of a DXF's loose pieces use them)."""
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import connected_components
 
@@ -103,6 +104,9 @@ def test_clusters_are_the_connected_components() -> None:
         assert groups == expected_groups
         # the same partition: a one-to-one map between the two labellings
         assert len(set(zip(label.tolist(), expected.tolist(), strict=True))) == groups
+        # numbered alike too (by each cluster's lowest point), as the chaining of loose
+        # pieces relies on
+        assert np.array_equal(label, expected)
 
 
 @pytest.mark.parametrize("design", ["seed-10-4", "demo-cylindrical", "demo-groove-roller"])

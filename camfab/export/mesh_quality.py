@@ -15,7 +15,7 @@ from typing import Any
 
 import numpy as np
 
-from camfab.arrays import Array, Index
+from camfab.arrays import Array, Index, clusters
 
 #: No edge is shorter than this (mm): FreeCAD's mesh module calls edges shorter than 1 µm
 #: (``MESH_MIN_EDGE_LEN``) too short; the edges a tolerance-sampled cam needs are far longer.
@@ -70,28 +70,6 @@ def flaws(vertices: Array, faces: Index) -> tuple[int, int]:
     lengths = edge_lengths(vertices, faces)
     thin = altitudes(vertices, faces, lengths) < min_altitude(vertices)
     return int(np.count_nonzero(lengths < MIN_EDGE_MM)), int(np.count_nonzero(thin))
-
-
-def clusters(pairs: Index, count: int) -> tuple[int, Index]:
-    """The clusters of *count* points that *pairs* (K, 2) of indices join: their number, and
-    each point's cluster (0 up, numbered by the cluster's lowest point).
-
-    Each point takes the lowest label among its pairs' ends, then its label's label (so labels
-    halve their way to the lowest of a cluster), until nothing changes: a few rounds of whole
-    arrays."""
-    label = np.arange(count)
-    first, second = pairs[:, 0], pairs[:, 1]
-    while True:
-        lowest = np.minimum(label[first], label[second])
-        new = label.copy()
-        np.minimum.at(new, first, lowest)
-        np.minimum.at(new, second, lowest)
-        new = new[new]
-        if np.array_equal(new, label):
-            break
-        label = new
-    roots, numbered = np.unique(label, return_inverse=True)
-    return len(roots), numbered.ravel()
 
 
 def without_slivers(solid: Any) -> Any:

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from camfab.arrays import Array, Index, Mask
+from camfab.arrays import Array, Index, Mask, clusters
 
 
 @dataclass(frozen=True)
@@ -46,8 +46,6 @@ def end_nodes(points: Array, gap: float) -> Index:
     (1 + √2/2)·gap are joined, so the pairs compared per cell stay few however many ends pile up
     at one spot.
     """
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import connected_components
     from scipy.spatial import cKDTree
 
     if len(points) == 0:
@@ -57,9 +55,7 @@ def end_nodes(points: Array, gap: float) -> Index:
     cells, inverse = np.unique(keys, axis=0, return_inverse=True)
     centres = (cells + 0.5) * cell
     pairs = cKDTree(centres).query_pairs(gap * (1.0 + math.sqrt(0.5)), output_type="ndarray")
-    count = len(cells)
-    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(count, count))
-    _, label = connected_components(graph, directed=False)
+    _, label = clusters(pairs, len(cells))
     return label[np.ravel(inverse)].astype(np.intp)
 
 
@@ -126,14 +122,10 @@ def _peeled(a: Index, b: Index, alive: Mask) -> Mask:
 def _parts(a: Index, b: Index, alive: Mask) -> tuple[Index, Index]:
     """The connected part of every piece (by its nodes) and every node's number of alive
     pieces."""
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import connected_components
-
     size = int(max(a.max(initial=-1), b.max(initial=-1))) + 1
     ia, ib = a[alive], b[alive]
     degree = np.bincount(ia, minlength=size) + np.bincount(ib, minlength=size)
-    graph = coo_matrix((np.ones(ia.size), (ia, ib)), shape=(size, size))
-    _, label = connected_components(graph, directed=False)
+    _, label = clusters(np.stack((ia, ib), axis=1), size)
     return label[a].astype(np.intp), degree
 
 
