@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -125,12 +126,13 @@ def _has_area(triangles: Array, crosses: Array) -> Mask:
     return ok
 
 
-def stl_bytes(triangles: Array) -> bytes:
-    """Binary STL bytes of (F, 3, 3) *triangles* (mm), each with its unit normal."""
+def stl_bytes(triangles: Array, crosses: Array | None = None) -> bytes:
+    """Binary STL bytes of (F, 3, 3) *triangles* (mm), each with its unit normal (from
+    *crosses*, their first two edges' cross products, where already computed)."""
     header = np.zeros(1, dtype=_HEADER)
     header["face_count"] = len(triangles)
     packed = np.zeros(len(triangles), dtype=_FACET)
-    packed["normals"] = _unit_normals(_crosses(triangles))
+    packed["normals"] = _unit_normals(_crosses(triangles) if crosses is None else crosses)
     packed["vertices"] = triangles
     return header.tobytes() + packed.tobytes()
 
@@ -146,7 +148,9 @@ def binary_stl(solid: Any) -> bytes:
     vertices = np.asarray(mesh.vert_properties)[:, :3].astype(np.float32).astype(np.float64)
     vertices, faces = merged(vertices, np.asarray(mesh.tri_verts, dtype=np.int64))
     triangles = vertices[faces]
-    return stl_bytes(triangles[_has_area(triangles, _crosses(triangles))])
+    crosses = _crosses(triangles)
+    kept = _has_area(triangles, crosses)
+    return stl_bytes(triangles[kept], crosses[kept])
 
 
 @dataclass(frozen=True)
@@ -223,10 +227,15 @@ class StlMesh:
     vertices: Array
     faces: Index
 
-    @property
+    @cached_property
     def triangles(self) -> Array:
         """(F, 3, 3) corners of each facet (mm)."""
         return self.vertices[self.faces]
+
+    @cached_property
+    def crosses(self) -> Array:
+        """(F, 3) cross products of each facet's first two edges (mm²)."""
+        return _crosses(self.triangles)
 
     def edges(self) -> tuple[bool, bool]:
         """Whether every edge is shared by exactly two facets (the surface is closed), and
@@ -246,11 +255,11 @@ class StlMesh:
         theorem over the facets."""
         triangles = self.triangles
         summed = triangles[:, 0, 0] + triangles[:, 1, 0] + triangles[:, 2, 0]
-        return float((_crosses(triangles)[:, 0] * summed).sum() / 6.0)
+        return float((self.crosses[:, 0] * summed).sum() / 6.0)
 
     def areas(self) -> Array:
         """(F,) facet areas (mm²)."""
-        return _areas(_crosses(self.triangles))
+        return _areas(self.crosses)
 
 
 def read_stl(data: bytes) -> StlMesh:
