@@ -18,6 +18,7 @@ import click
 
 from camfab import __version__
 from camfab.batch import PROGRESS_FROM, Outcome
+from camfab.stopping import defer
 
 if TYPE_CHECKING:
     from camfab.analysis.record import Analysis
@@ -44,8 +45,6 @@ _RECEIVED: list[int] = []
 
 def _raise_interrupted(signum: int, frame: Any) -> None:
     import signal
-
-    from camfab.stopping import defer
 
     if signum not in _RECEIVED:
         _RECEIVED.append(signum)
