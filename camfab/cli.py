@@ -10,6 +10,8 @@ from __future__ import annotations
 import math
 import os
 import sys
+from collections.abc import Iterator
+from contextlib import contextmanager
 from functools import cache
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -89,18 +91,31 @@ def _catch_signals() -> None:
             signal.signal(number, _raise_interrupted)
 
 
+@contextmanager
+def _ctrl_c_as_ours() -> Iterator[None]:
+    """Ctrl-C (KeyboardInterrupt) raised as camfab's :class:`Interrupted`, before click's
+    handler of it prints a blank line ahead of camfab's one."""
+    try:
+        yield
+    except KeyboardInterrupt:
+        import signal
+
+        raise Interrupted(signal.SIGINT) from None
+
+
 class _Camfab(click.Group):
     """The command group, run so that every way out is one line and a documented status: click's
     usage errors on one line (status 2), Ctrl-C status 130 and SIGTERM 143 (128 + the signal),
     with the temporary files of an interrupted build removed on the way out."""
 
-    def invoke(self, ctx: click.Context) -> Any:
-        try:
-            return super().invoke(ctx)
-        except KeyboardInterrupt:  # as ours, before click prints a blank line for it
-            import signal
+    def make_context(self, info_name: str | None, args: list[str],
+                     parent: click.Context | None = None, **extra: Any) -> click.Context:
+        with _ctrl_c_as_ours():  # the command line being parsed
+            return super().make_context(info_name, args, parent, **extra)
 
-            raise Interrupted(signal.SIGINT) from None
+    def invoke(self, ctx: click.Context) -> Any:
+        with _ctrl_c_as_ours():
+            return super().invoke(ctx)
 
     def main(self, args: Any = None, prog_name: str | None = None,
              complete_var: str | None = None, standalone_mode: bool = True,
