@@ -50,9 +50,8 @@ def _batch(folder: Path, count: int) -> list[Path]:
 def _per_design(runs: int) -> tuple[float, float]:
     """Seconds of one build in process after imports, and of its HTML report."""
     use_checkout()
-    from camfab.design import load_design
     from camfab.export.report_html import render_report_html
-    from camfab.pipeline import analyse, build, verify_exports
+    from camfab.pipeline import analyse, build, load_design, verify_exports
 
     path = ROOT / "designs" / f"{EXAMPLES[0]}.yaml"
     with tempfile.TemporaryDirectory() as out:

@@ -38,8 +38,7 @@ def main() -> None:
         print(f"{label:40s} {wall(['check', str(path)], repeats):.3f}")
 
     sys.path.insert(0, str(ROOT))
-    from camfab.design import load_design
-    from camfab.pipeline import analyse, render
+    from camfab.pipeline import analyse, load_design, render
 
     for path in DESIGNS:  # warm every import once
         render(analyse(load_design(path)))

@@ -29,10 +29,9 @@ MAX_BUILD_S = 2.5
 def solid_time(design_path: Path, runs: int) -> tuple[float, int]:
     """Median seconds to make the groove solid and its STL bytes, and the STL's face count."""
     sys.path.insert(0, str(ROOT))
-    from camfab.design import load_design
     from camfab.export.stl import render_stl
     from camfab.kinds import kind_of
-    from camfab.pipeline import analyse
+    from camfab.pipeline import analyse, load_design
 
     analysis = analyse(load_design(design_path))
     kind = kind_of(analysis.design.cam.type)

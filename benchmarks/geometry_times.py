@@ -21,8 +21,8 @@ from typing import Any
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from camfab.design import design_from_text, load_design  # noqa: E402
 from camfab.geometry import disc_geometry as G  # noqa: E402
+from camfab.pipeline import design_from_text, load_design  # noqa: E402
 
 
 def median_ms(job: Callable[[], Any], repeats: int) -> float:

@@ -132,7 +132,7 @@ def design_mapping(case: Case, law: str, rotation: str = "ccw") -> dict[str, Any
 
 
 def camfab_design(case: Case, law: str, rotation: str = "ccw") -> Design:
-    from camfab.design import design_from_mapping
+    from camfab.pipeline import design_from_mapping
 
     return design_from_mapping(design_mapping(case, law, rotation))
 

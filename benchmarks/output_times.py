@@ -132,8 +132,7 @@ def export_parts(analysis: Analysis, runs: int) -> dict[str, float]:
 
 def time_design(path: Path, runs: int) -> dict[str, float]:
     """Milliseconds of each step for the design in *path*."""
-    from camfab.design import load_design
-    from camfab.pipeline import RENDERERS, analyse, render, verify_exports
+    from camfab.pipeline import RENDERERS, analyse, load_design, render, verify_exports
 
     analysis = all_outputs(analyse(load_design(path)))
     render(analysis)  # warm every import the outputs need

@@ -23,7 +23,7 @@ MAX_REPORT_S = 0.6
 
 _RUN = r"""
 import sys, time
-from camfab.design import load_design
+from camfab.pipeline import load_design
 from camfab.pipeline import analyse
 from camfab.pipeline import verify_exports
 analysis, _ = verify_exports(analyse(load_design(sys.argv[1])), ("dxf", "svg", "stl"))

@@ -47,8 +47,7 @@ def build_all(folder: Path) -> list[Path]:
     """Every example and starter built into *folder*; their STL files."""
     use_checkout()
     from camfab.cli import STARTER_KINDS
-    from camfab.design import load_design
-    from camfab.pipeline import analyse, render
+    from camfab.pipeline import analyse, load_design, render
 
     sources = sorted((ROOT / "designs").glob("*.yaml"))
     sources += [ROOT / "camfab" / "starters" / f"{kind}.yaml" for kind in STARTER_KINDS]

@@ -45,9 +45,8 @@ def with_tolerance(data: dict[str, Any], tolerance: float) -> dict[str, Any]:
 
 def sweep(path: Path, tolerances: tuple[float, ...], runs: int) -> list[tuple[Any, ...]]:
     """One row of :data:`HEADER` per tolerance for the design in *path*."""
-    from camfab.design import design_from_mapping
     from camfab.geometry.disc_geometry import disc_geometry
-    from camfab.pipeline import analyse, verify_exports
+    from camfab.pipeline import analyse, design_from_mapping, verify_exports
 
     data = yaml.safe_load(path.read_text())
     verify_exports(analyse(design_from_mapping(data, file=path.name)), ("dxf",))  # warm up

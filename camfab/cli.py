@@ -226,6 +226,42 @@ def check(designs: tuple[str, ...]) -> None:
 
 
 @main.command()
+@click.argument("design")
+@click.option("--offset", "with_offset", is_flag=True,
+              help="Also choose the offset of a translating follower that lets the base radius "
+                   "be least (a flat face: the offset that centres it on the contact).")
+@click.option("--pivot", "with_pivot", is_flag=True,
+              help="Also choose the pivot distance of an oscillating follower, for its arm "
+                   "length, that lets the base radius be least.")
+def size(design: str, with_offset: bool, with_pivot: bool) -> None:
+    """Find the least base radius of DESIGN's cam (a drum's radius) that meets its limits:
+    pressure angle, undercut, limits.min_radius_of_curvature, face width and the fit of bore
+    and follower. Prints what governs it and every limit at that size; writes nothing. Exit 0
+    when a size exists, 1 when none does."""
+    sys.exit(_finish([_guarded(design, lambda: _size_one(design, with_offset, with_pivot))]))
+
+
+def _size_one(path: str, with_offset: bool, with_pivot: bool) -> Outcome:
+    from camfab.design.loader import unsized_design
+    from camfab.errors import CamfabError
+    from camfab.pipeline import size_design
+    from camfab.sizing_text import sizing_lines
+
+    keys = frozenset({"cam.base_radius", "cam.radius", *(["follower.offset"] * with_offset)})
+    design, sized = unsized_design(path, keys)
+    fol = design.follower
+    if with_offset and (fol.oscillating or "follower.offset" not in sized):
+        reason = ("an oscillating follower has no offset (--pivot sizes its pivot distance)"
+                  if fol.oscillating else f"a {design.cam.type} cam's follower offset is not sized")
+        raise CamfabError(f"{path}: --offset: {reason}")
+    if with_pivot and not (fol.oscillating and design.cam.spec.disc_curves):
+        raise CamfabError(f"{path}: --pivot: sizes the pivot distance of an oscillating follower "
+                          f"on a plate cam; this design's follower is {fol.motion}")
+    sizing = size_design(design, sized, with_pivot)
+    return Outcome(0 if sizing.size is not None else 1, out=sizing_lines(design, sizing))
+
+
+@main.command()
 def laws() -> None:
     """List the motion laws with their peak coefficients Cv, Ca, Cj."""
     from camfab.report_text import laws_table
@@ -377,12 +413,16 @@ def _guarded(path: str, work) -> Outcome:
 
 def _build_one(path: str, out_dir: Path | None) -> Outcome:
     def work() -> Outcome:
+        from camfab.analysis.sizing_words import sized_words
         from camfab.pipeline import build as build_design
 
         result = build_design(path, out_dir)
         lines = [f"{result.analysis.design.name}: {_verdict(result.analysis)} — wrote "
                  f"{len(result.written)} file(s) to {result.folder}/"]
         lines += [f"  {p.name}" for p in result.written]
+        sized = sized_words(result.analysis.design)
+        if sized is not None:
+            lines.append(f"  {sized}")
         if result.not_produced:
             lines.extend(f"  not produced: {item}" for item in result.not_produced)
         lines += [f"  {f.mark} {f.id}: {f.message}" for f in result.analysis.findings

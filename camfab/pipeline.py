@@ -14,7 +14,7 @@ import secrets
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from camfab import __version__
 from camfab.analysis.kinematics import MotionUnits, continuity_findings, segment_stats
@@ -22,18 +22,23 @@ from camfab.analysis.record import Analysis
 from camfab.design import Design
 from camfab.errors import OutputError
 
+if TYPE_CHECKING:
+    from camfab.analysis.sizing import Sizing
+    from camfab.design.model import Sized
+
 #: Every output a design may ask for, in the order files are listed.
 ALL_OUTPUTS = ("dxf", "svg", "stl", "report", "csv")
 
 
 def load_design(path: str | Path) -> Design:
-    """Read, check and return the design in file *path*: the design file's rules, then its cam
-    kind's (those that need the kind's geometry), every broken one reported on its line
-    (raises DesignError/DesignFileError)."""
+    """Read, check and return the design in file *path*: the keys it gives as ``auto`` sized
+    (:func:`size_design`), the design file's rules, then its cam kind's (those that need the
+    kind's geometry), every broken one reported on its line (raises
+    DesignError/DesignFileError)."""
     from camfab.design import load_design as read
     from camfab.kinds import check_design
 
-    return read(path, check_design)
+    return read(path, check_design, sized_values)
 
 
 def design_from_text(text: str, file: str = "<design>", folder: Path = Path(".")) -> Design:
@@ -41,7 +46,7 @@ def design_from_text(text: str, file: str = "<design>", folder: Path = Path(".")
     from camfab.design import design_from_text as read
     from camfab.kinds import check_design
 
-    return read(text, file, folder, check_design)
+    return read(text, file, folder, check_design, sized_values)
 
 
 def design_from_mapping(data: dict[str, Any], file: str = "<design>") -> Design:
@@ -49,7 +54,48 @@ def design_from_mapping(data: dict[str, Any], file: str = "<design>") -> Design:
     from camfab.design import design_from_mapping as read
     from camfab.kinds import check_design
 
-    return read(data, file, check_design)
+    return read(data, file, check_design, sized_values)
+
+
+def size_design(design: Design, keys: frozenset[str], pivot: bool = False) -> Sizing:
+    """The least radius of *design*'s cam that meets its limits (a plate's base radius, a
+    drum's radius), with the offset when *keys* holds ``follower.offset`` and the pivot
+    distance when *pivot* (:func:`camfab.analysis.sizing.size_design`). The design is one
+    whose cam type camfab sizes (``CamTypeSpec.auto_keys``)."""
+    from camfab.analysis.sizing import size_design as size
+    from camfab.kinds import sizing_of
+
+    problem_of = sizing_of(design.cam.type)
+    assert problem_of is not None, "the design file's rules allow auto only where it is sized"
+    return size(design, keys, problem_of, pivot)
+
+
+def sized_values(design: Design, keys: frozenset[str]) -> Sized:
+    """What :func:`size_design` chooses for the keys a design gives as ``auto`` (the sizer of
+    :func:`camfab.design.load_design`); a key no value of which meets the limits is a broken
+    rule of the design file."""
+    from camfab.analysis.sizing import unmet_words
+    from camfab.design.model import Sized
+    from camfab.design.rules import fail
+
+    sizing = size_design(design, keys)
+    size = sizing.size
+    if size is None:
+        key = "base_radius" if sizing.key == "base_radius" else "radius"
+        fail(("cam", key), f"auto: {unmet_words(sizing, key.replace('_', ' '))}",
+             show_got=False)
+    governing = sizing.found.governing
+    return Sized(
+        base_radius=size if sizing.key == "base_radius" else None,
+        radius=size if sizing.key == "radius" else None,
+        offset=sizing.offset,
+        governed_by=governing.id if governing is not None else "",
+        what=governing.what if governing is not None else "",
+        value=None if governing is None else governing.value,
+        limit=None if governing is None else governing.limit,
+        unit="mm" if governing is None else governing.unit,
+        at_deg=None if governing is None else governing.at_deg,
+        rounded_to=sizing.rounded_to)
 
 
 def analyse(design: Design) -> Analysis:
@@ -68,7 +114,7 @@ def analyse(design: Design) -> Analysis:
     bore = bore_finding(design, kind.mounted)
     findings = [*findings, *([bore] if bore is not None else [])]
     stats = segment_stats(program, steps, units, omega)
-    analysis = kind.analyse(design, program, units, stats, findings)
+    analysis = _with_advice(kind.analyse(design, program, units, stats, findings))
     if design.follower.mass is None or kind.drives_both_ways:
         # a groove, a conjugate pair or a yoke drives its follower both ways: no spring to
         # size, and the forces on either side are theirs (camfab.geometry.groove, .conjugate)
@@ -82,6 +128,25 @@ def analyse(design: Design) -> Analysis:
         return replace(analysis, dynamics=dyn)
     return replace(analysis, dynamics=dyn,
                    findings=[*analysis.findings, jump_finding(design, dyn)])
+
+
+def _with_advice(analysis: Analysis) -> Analysis:
+    """*analysis* with the size that passes, computed, added to each failed check a sizing
+    answers (:func:`camfab.analysis.sizing.advice`)."""
+    from dataclasses import replace
+
+    from camfab.analysis.sizing import ADVISED, advice
+    from camfab.kinds import sizing_of
+
+    failing = {f.id for f in analysis.findings if not f.ok and f.severity == "error"
+               and f.id.removesuffix("_b") in ADVISED}
+    problem_of = sizing_of(analysis.design.cam.type)
+    if not failing or problem_of is None:
+        return analysis
+    told = advice(analysis.design, problem_of, failing)
+    return replace(analysis, findings=[
+        replace(f, message=f"{f.message}; {told[f.id]}") if f.id in told else f
+        for f in analysis.findings])
 
 
 @dataclass(frozen=True)

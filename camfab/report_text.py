@@ -24,6 +24,7 @@ _num = terse
 def print_summary(analysis: Analysis) -> None:
     """The design, its motion program with peak kinematics, and every check."""
     from camfab.analysis.findings import count
+    from camfab.analysis.sizing_words import sized_words
 
     design, units = analysis.design, analysis.units
     console = _console()
@@ -51,6 +52,9 @@ def print_summary(analysis: Analysis) -> None:
     console.print(table)
     for line in analysis.result.summary(analysis):
         console.print(line)
+    sized = sized_words(design)
+    if sized is not None:
+        console.print(sized, markup=False, emoji=False)
     for finding in analysis.findings:
         colour = ("dim" if not finding.applicable else "green" if finding.ok else
                   "red" if finding.severity == "error" else "yellow")

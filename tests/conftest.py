@@ -81,8 +81,7 @@ class Built:
 def every_build(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Built]:
     """Every example design and every starter (as ``camfab new KIND`` prints it), built once
     for the session, each into a folder of its own, by :data:`EVERY_DESIGN` name."""
-    from camfab.design import load_design
-    from camfab.pipeline import analyse, render
+    from camfab.pipeline import analyse, load_design, render
 
     root = tmp_path_factory.mktemp("every-build")
     sources = {p.stem: p for p in DESIGN_FILES}

@@ -16,8 +16,7 @@ import pytest
 import shapely
 import trimesh
 
-from camfab.design import load_design
-from camfab.pipeline import analyse, render
+from camfab.pipeline import analyse, load_design, render
 
 from .conftest import DESIGN_FILES, tool
 from .dxf_loops import loops

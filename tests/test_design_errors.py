@@ -11,9 +11,8 @@ import yaml
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from camfab.design import design_from_mapping, design_from_text
 from camfab.errors import CamfabError
-from camfab.pipeline import analyse, render
+from camfab.pipeline import analyse, design_from_mapping, design_from_text, render
 
 from .conftest import DESIGNS, run_cli
 

@@ -17,10 +17,9 @@ from scipy.optimize import brentq
 
 from camfab.curves.follower import FollowerGeometry
 from camfab.curves.profile import Profile
-from camfab.design import design_from_text, load_design
 from camfab.geometry.disc_geometry import disc_geometry
 from camfab.geometry.simulate import simulate
-from camfab.pipeline import analyse, render
+from camfab.pipeline import analyse, design_from_text, load_design, render
 
 from .conftest import DESIGN_FILES, DESIGNS
 
@@ -339,8 +338,8 @@ def disc_designs(draw):  # type: ignore[no-untyped-def]
 @settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(disc_designs())
 def test_random_disc_designs_are_verified_or_report_their_undercut(data: dict) -> None:
-    from camfab.design import design_from_mapping
     from camfab.errors import CamfabError
+    from camfab.pipeline import design_from_mapping
 
     try:
         design = design_from_mapping(data)

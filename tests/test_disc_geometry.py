@@ -15,8 +15,8 @@ import numpy as np
 import pytest
 
 from camfab.curves.follower import FollowerGeometry
-from camfab.design import load_design
 from camfab.geometry.disc import DiscCam
+from camfab.pipeline import load_design
 
 from .conftest import DESIGNS
 

@@ -16,9 +16,8 @@ import pytest
 import shapely
 import trimesh
 
-from camfab.design import load_design
 from camfab.geometry.drum import drum, polar_to_xy
-from camfab.pipeline import analyse, render
+from camfab.pipeline import analyse, load_design, render
 
 from .conftest import DESIGNS
 from .dxf_loops import loop_sizes, loops

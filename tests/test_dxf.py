@@ -12,8 +12,7 @@ import numpy as np
 import pytest
 import shapely
 
-from camfab.design import design_from_text, load_design
-from camfab.pipeline import analyse, render
+from camfab.pipeline import analyse, design_from_text, load_design, render
 
 from .conftest import DESIGN_FILES, DESIGNS, run_cli
 from .dxf_loops import loop_sizes, loops

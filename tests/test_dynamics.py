@@ -9,8 +9,7 @@ import math
 import numpy as np
 import pytest
 
-from camfab.design import design_from_text, load_design
-from camfab.pipeline import analyse, render
+from camfab.pipeline import analyse, design_from_text, load_design, render
 
 from .conftest import DESIGNS
 

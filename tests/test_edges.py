@@ -9,8 +9,7 @@ from __future__ import annotations
 
 import pytest
 
-from camfab.design import design_from_text
-from camfab.pipeline import analyse, render
+from camfab.pipeline import analyse, design_from_text, render
 
 
 def _disc(name: str, base: float, roller: float, offset: float, bore: float, thickness: float,

@@ -278,9 +278,9 @@ def test_the_build_finds_a_short_edge_and_its_slivers_in_the_stl_it_reads_back()
 def test_the_drum_rows_leave_the_surface_between_them() -> None:
     """The groove's tube has no row of vertices on the drum's surface (where the boolean would
     leave micrometre edges): the surface cuts its last wall piece halfway."""
-    from camfab.design import load_design
     from camfab.geometry.drum import drum
     from camfab.geometry.drum_mesh import groove_tube
+    from camfab.pipeline import load_design
 
     design = load_design(Path(__file__).resolve().parents[1] / "designs/demo-cylindrical.yaml")
     d = drum(design)

@@ -19,9 +19,9 @@ import pytest
 import shapely
 import trimesh
 
-from camfab.design import Design, design_from_text, load_design
+from camfab.design import Design
 from camfab.geometry.groove import wall_contact
-from camfab.pipeline import analyse, render
+from camfab.pipeline import analyse, design_from_text, load_design, render
 
 from .conftest import DESIGNS, run_cli
 from .dxf_loops import loop_sizes, loops

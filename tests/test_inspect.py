@@ -15,8 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from camfab.design import load_design
-from camfab.pipeline import analyse
+from camfab.pipeline import analyse, load_design
 
 from .conftest import DESIGN_FILES, DESIGNS, run_cli
 

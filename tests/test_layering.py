@@ -19,7 +19,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("camfab.analysis",),
     ("camfab.export",),
     ("camfab.kinds",),
-    ("camfab.pipeline", "camfab.report_text"),
+    ("camfab.pipeline", "camfab.report_text", "camfab.sizing_text"),
     ("camfab.inspect",),
     ("camfab.batch", "camfab.cli", "camfab.__main__"),
 )

@@ -21,9 +21,8 @@ import trimesh
 from scipy.spatial import cKDTree
 
 from camfab.curves.profile import Profile
-from camfab.design import design_from_text, load_design
 from camfab.geometry.linear import follower_heights, linear_cam
-from camfab.pipeline import Analysis, Artifacts, analyse, render
+from camfab.pipeline import Analysis, Artifacts, analyse, design_from_text, load_design, render
 
 from .conftest import DESIGNS, run_cli
 from .dxf_loops import loops

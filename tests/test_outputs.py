@@ -11,10 +11,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from camfab.design import design_from_text, load_design
 from camfab.export.motion_csv import render_motion_csv
 from camfab.export.report_json import render_report_json
-from camfab.pipeline import analyse
+from camfab.pipeline import analyse, design_from_text, load_design
 
 from .conftest import DESIGNS
 

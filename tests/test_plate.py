@@ -14,8 +14,7 @@ import numpy as np
 import pytest
 import shapely
 
-from camfab.design import design_from_text
-from camfab.pipeline import analyse, render
+from camfab.pipeline import analyse, design_from_text, render
 
 from .conftest import DESIGNS
 from .dxf_loops import loops

@@ -18,11 +18,10 @@ import pytest
 import shapely
 
 from camfab.curves.profile import Profile
-from camfab.design import design_from_text, load_design
 from camfab.export.dxf import read_cut_outline
 from camfab.motion.mirror import opposite
 from camfab.motion.program import build_program
-from camfab.pipeline import analyse, render
+from camfab.pipeline import analyse, design_from_text, load_design, render
 
 from .conftest import DESIGNS, run_cli
 

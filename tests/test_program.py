@@ -12,10 +12,9 @@ import pytest
 from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
-from camfab.design import design_from_mapping
 from camfab.motion.continuity import joint_steps
 from camfab.motion.program import build_program
-from camfab.pipeline import analyse
+from camfab.pipeline import analyse, design_from_mapping
 
 
 def design(motion: list[dict], follower: dict | None = None, speed: float | None = 100.0):

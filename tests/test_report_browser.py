@@ -14,8 +14,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from camfab.design import load_design
-from camfab.pipeline import analyse, render
+from camfab.pipeline import analyse, load_design, render
 
 from .conftest import DESIGN_FILES
 

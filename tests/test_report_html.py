@@ -7,8 +7,7 @@ import re
 
 import pytest
 
-from camfab.design import load_design
-from camfab.pipeline import analyse, render
+from camfab.pipeline import analyse, load_design, render
 
 from .conftest import DESIGNS
 

@@ -9,9 +9,8 @@ import math
 import numpy as np
 import pytest
 
-from camfab.design import load_design
 from camfab.motion.program import build_program
-from camfab.pipeline import analyse
+from camfab.pipeline import analyse, load_design
 
 from .conftest import DESIGNS
 
@@ -118,7 +117,7 @@ def _with(text: str, **changes: str) -> str:
 
 
 def _rise_and_return_pressure(text: str) -> tuple[float, float]:
-    from camfab.design import design_from_text
+    from camfab.pipeline import design_from_text
 
     analysis = analyse(design_from_text(text))
     assert analysis.numbers is not None

@@ -17,9 +17,8 @@ import pytest
 
 from camfab.curves.follower import FollowerGeometry
 from camfab.curves.shaped import ShapedCam
-from camfab.design import design_from_text, load_design
 from camfab.geometry.simulate import simulate
-from camfab.pipeline import Analysis, analyse, render
+from camfab.pipeline import Analysis, analyse, design_from_text, load_design, render
 
 from .conftest import DESIGNS, rad, run_cli
 

@@ -116,11 +116,15 @@ def pressure_angle_finding(design: Design, geom: DiscGeometry, numbers: CamNumbe
             message = "a flat face perpendicular to its motion has no pressure angle"
         return Finding("pressure_angle", True, "error",
                        f"{message}, within the limit {fmt(limit)}°", value, limit, "deg")
+    k = int(np.argmax(np.abs(dense.pressure_angle)))
+    kind = design.program.segments[int(dense.segment[k])].kind
+    advice = f"a larger base radius or a longer {kind} lowers it"
     side = offset_side(design)
-    advice = "a larger base radius or a longer rise or return lowers it"
-    if side is not None:
-        advice = (f"an offset toward {side} lowers it on the rise (and raises it on the return); "
-                  + advice)
+    if side is not None and kind != "dwell":
+        other = {"rise": "return", "return": "rise"}[kind]
+        toward = side if kind == "rise" else {"+X": "-X", "-X": "+X"}[side]
+        advice = (f"on the {kind} an offset toward {toward} lowers it (and raises it on the "
+                  f"{other}); " + advice)
     return Finding(
         "pressure_angle", False, "error",
         f"pressure angle reaches {fmt(value)}° at {fmt(worst.at_deg or 0.0)}°, over the limit "

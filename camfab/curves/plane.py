@@ -84,6 +84,20 @@ def curve_from_frame(theta: Array, sigma: int, f: Array, df: Array, ddf: Array) 
     curvature is computed from these in the frame (rotation does not change it) and made convex
     positive: the cam-frame curve of a ccw cam runs clockwise (THEORY §B, generic definitions).
     """
+    d1, speed, radius = _frame_radius(sigma, f, df, ddf)
+    xy = rotate(f, -sigma * theta)
+    tangent = rotate(unit(d1), -sigma * theta)
+    return CurvePoints(xy, tangent, speed, radius)
+
+
+def frame_radius(sigma: int, f: Array, df: Array, ddf: Array) -> Array:
+    """The signed radius of curvature (mm) of the cam-frame curve of a frame point F(θ), as
+    :func:`curve_from_frame` gives it, without the curve's points."""
+    return _frame_radius(sigma, f, df, ddf)[2]
+
+
+def _frame_radius(sigma: int, f: Array, df: Array, ddf: Array) -> tuple[Array, Array, Array]:
+    """C′ (in the frame), |C′| and the signed radius of curvature (see :func:`curve_from_frame`)."""
     d1 = df - sigma * perp(f)
     d2 = ddf - 2 * sigma * perp(df) - f
     speed = np.hypot(d1[:, 0], d1[:, 1])
@@ -91,9 +105,7 @@ def curve_from_frame(theta: Array, sigma: int, f: Array, df: Array, ddf: Array) 
     straight = np.abs(bend) <= STRAIGHT_SINE * speed * np.hypot(d2[:, 0], d2[:, 1])
     with np.errstate(divide="ignore", invalid="ignore"):
         radius = np.where(straight, np.inf, -sigma * speed**3 / bend)
-    xy = rotate(f, -sigma * theta)
-    tangent = rotate(unit(d1), -sigma * theta)
-    return CurvePoints(xy, tangent, speed, radius)
+    return d1, speed, radius
 
 
 def offset_inward(curve: CurvePoints, sigma: int, distance: float) -> CurvePoints:

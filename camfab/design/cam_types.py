@@ -76,6 +76,9 @@ class CamTypeSpec:
     bore_within: str | None = "base_radius"
     #: The key of the radius a keyway must stop a wall of material short of, or None.
     keyway_within: str | None = "base_radius"
+    #: The keys camfab sizes when the design gives ``auto`` (``section.key``): the radius the
+    #: type is sized by, and a translating follower's offset.
+    auto_keys: tuple[str, ...] = ()
 
     def hint_for(self, follower: str) -> str | None:
         """Why this type refuses the *follower* type, where the list alone does not say."""
@@ -366,15 +369,17 @@ _SHAPED = {"shaped": True, "translating_only": True}
 _POSITIVE_PLATE = {"disc_curves": True, "positive_drive": True}
 _GROOVE_KEYS = {"translating_keys": ("groove_clearance",),
                 "oscillating_keys": ("groove_clearance",)}
+_SIZED_PLATE = ("cam.base_radius", "follower.offset")
 
 #: ``cam.type`` -> its row, in the order the design file's messages list the types.
 CAM_TYPES: dict[str, CamTypeSpec] = {spec.name: spec for spec in (
     CamTypeSpec("disc", "camfab.kinds.disc", (*_TURNING, "base_radius", *_BLANK), ("base_radius",),
-                _ANY_FOLLOWER, disc_curves=True),
+                _ANY_FOLLOWER, disc_curves=True, auto_keys=_SIZED_PLATE),
     _Drum("cylindrical", "camfab.kinds.drum",
           (*_TURNING, "radius", "length", "groove_depth", "groove_start", "bore"),
           ("radius", "length", "groove_depth"), ("roller",), **_GROOVE_KEYS,
-          translating_only=True, bore_within=None, keyway_within="radius"),
+          translating_only=True, bore_within=None, keyway_within="radius",
+          auto_keys=("cam.radius",)),
     _CircularArc("circular-arc", "camfab.kinds.shaped",
                  (*_TURNING, "base_radius", "lift", "lift_angle", "nose_radius", "flank_angle",
                   "top_dwell", *_BLANK), ("base_radius", "lift", "lift_angle"), _ANY_FOLLOWER,
@@ -385,10 +390,10 @@ CAM_TYPES: dict[str, CamTypeSpec] = {spec.name: spec for spec in (
     _Groove("groove", "camfab.kinds.groove",
             (*_TURNING, "base_radius", "thickness", "groove_depth", "outer_radius", "bore",
              "keyway"), ("base_radius", "thickness", "groove_depth"), ("roller",),
-            **_GROOVE_KEYS, **_POSITIVE_PLATE),
+            **_GROOVE_KEYS, **_POSITIVE_PLATE, auto_keys=_SIZED_PLATE),
     _Conjugate("conjugate", "camfab.kinds.pair:CONJUGATE", (*_TURNING, "base_radius", *_BLANK),
                ("base_radius",), ("roller",), translating_keys=("roller_spacing",),
-               oscillating_keys=("arm_angle",), **_POSITIVE_PLATE),
+               oscillating_keys=("arm_angle",), **_POSITIVE_PLATE, auto_keys=_SIZED_PLATE),
     _ConstantBreadth("constant-breadth", "camfab.kinds.pair:CONSTANT_BREADTH",
                      (*_TURNING, "base_radius", *_BLANK), ("base_radius",), ("flat", "roller"),
                      translating_only=True, **_POSITIVE_PLATE),

@@ -13,20 +13,25 @@ from typing import Any, NoReturn
 from pydantic import ValidationError
 
 from camfab.design.cam_types import CAM_TYPES, CamTypeSpec
-from camfab.design.model import Design
+from camfab.design.model import Design, Sized
 from camfab.design.rules import RuleViolation
 from camfab.design.source import Path_, SourceDocument, dotted, parse_yaml, read_design_file
+from camfab.design.units import MM_PER_UNIT
 from camfab.errors import DesignError, Location, did_you_mean
 
 SEGMENT_KINDS = {"rise": "rise", "return": "return", "fall": "return", "dwell": "dwell"}
 
 _TOP = ("name", "description", "units", "cam", "follower", "motion", "spring", "limits",
-        "manufacturing", "outputs", "table_step")
+        "manufacturing", "sizing", "outputs", "table_step")
 _SECTIONS: dict[str, tuple[str, ...]] = {
     "spring": ("rate", "preload", "initial_compression", "gravity", "damping", "external_load"),
     "limits": ("pressure_angle", "min_radius_of_curvature"),
     "manufacturing": ("tolerance", "kerf", "cutter_radius"),
+    "sizing": ("round_to",),
 }
+#: The keys a design may leave to camfab with ``auto`` (``section.key``), each where its cam
+#: type sizes it (:attr:`~camfab.design.cam_types.CamTypeSpec.auto_keys`).
+AUTO_KEYS = ("cam.base_radius", "cam.radius", "follower.offset")
 #: Largest table law CSV file (bytes) and most rows it may hold: a lift measured every 0.1° is
 #: 3,600 rows; the quintic spline through the points costs time in proportion to their count.
 MAX_TABLE_BYTES = 1_000_000
@@ -46,27 +51,53 @@ _LAW_KEYS = {
 #: rules do: reported on the line of the key they name like any other.
 Checks = Callable[[Design], None]
 
+#: A higher layer's sizing of a design that leaves keys to camfab (``auto``): given the design
+#: checked without them (see :func:`~camfab.design.rules.check_rules`) and those keys
+#: (``section.key``), the values it chose and why, in millimetres; it raises
+#: :class:`~camfab.design.rules.RuleViolation` on a key no value of which meets the limits
+#: (:func:`camfab.pipeline.load_design` passes camfab's).
+Sizer = Callable[[Design, frozenset[str]], Sized]
 
-def load_design(path: str | Path, checks: Checks | None = None) -> Design:
+
+def load_design(path: str | Path, checks: Checks | None = None,
+                sizer: Sizer | None = None) -> Design:
     """Read, check and return the design in file *path* (raises DesignError/DesignFileError):
     the design file's rules, then *checks* (:func:`camfab.pipeline.load_design` passes the cam
-    kind's)."""
-    return _validate(read_design_file(path), checks)
+    kind's); the keys it gives as ``auto`` sized by *sizer* first."""
+    return _validate(read_design_file(path), checks, sizer)
 
 
 def design_from_text(text: str, file: str = "<design>", folder: Path = Path("."),
-                     checks: Checks | None = None) -> Design:
+                     checks: Checks | None = None, sizer: Sizer | None = None) -> Design:
     """The design in YAML *text* (for tests and tools; *file* names it in messages)."""
-    return _validate(parse_yaml(text, file, folder), checks)
+    return _validate(parse_yaml(text, file, folder), checks, sizer)
 
 
 def design_from_mapping(data: dict[str, Any], file: str = "<design>",
-                        checks: Checks | None = None) -> Design:
+                        checks: Checks | None = None, sizer: Sizer | None = None) -> Design:
     """A design from already-parsed data (no line numbers in messages)."""
     if not isinstance(data, dict):
         raise DesignError("a design must be a mapping of keys", location=Location(file, None, ""),
                           got=data)
-    return _validate(SourceDocument(file=file, data=_text_keys(data)), checks)
+    return _validate(SourceDocument(file=file, data=_text_keys(data)), checks, sizer)
+
+
+def unsized_design(path: str | Path, keys: frozenset[str]) -> tuple[Design, frozenset[str]]:
+    """The design in file *path* checked without the keys it gives as ``auto`` and without
+    *keys* (those of them its cam type sizes, whatever the file gives), for a sizing: the
+    design and the keys left out (raises DesignError/DesignFileError)."""
+    doc = read_design_file(path)
+    shaped = _Shaper(doc)
+    data = shaped.run()
+    spec = CAM_TYPES.get(_text(_get(data, "cam", "type")) or "")
+    if spec is not None and not spec.auto_keys:
+        _not_sized(shaped, ("cam", "base_radius"), spec)
+    asked = frozenset(k for k in keys if spec is not None and k in spec.auto_keys)
+    auto = _auto_keys(data, shaped) | asked
+    try:
+        return _model(_without(data, auto), doc, shaped, auto), auto
+    except RuleViolation as exc:
+        raise _rule_error(exc, doc, shaped) from None
 
 
 def _text_keys(value: Any, depth: int = 0) -> Any:
@@ -80,31 +111,105 @@ def _text_keys(value: Any, depth: int = 0) -> Any:
     return value
 
 
-def _validate(doc: SourceDocument, checks: Checks | None = None) -> Design:
+def _validate(doc: SourceDocument, checks: Checks | None = None,
+              sizer: Sizer | None = None) -> Design:
     shaped = _Shaper(doc)
     data = shaped.run()
+    auto = _auto_keys(data, shaped)
+    try:
+        sized = None
+        if auto:
+            if sizer is None:
+                key = sorted(auto)[0]
+                shaped.fail(tuple(key.split(".")), "auto asks camfab to size it, which camfab "
+                            "build, check and size do")
+            sized = sizer(_model(_without(data, auto), doc, shaped, auto), auto)
+            data = _with_sizes(data, sized)
+        design = _model(data, doc, shaped, sized=sized)
+        if checks is not None:
+            checks(design)
+    except RuleViolation as exc:
+        raise _rule_error(exc, doc, shaped) from None
+    return design
+
+
+def _model(data: dict[str, Any], doc: SourceDocument, shaped: _Shaper,
+           sizing: frozenset[str] = frozenset(), sized: Sized | None = None) -> Design:
+    """The design model of the shaped *data*, its rules checked (those that need the keys in
+    *sizing* left for the sized design); pydantic's errors as camfab's."""
     oscillating = _text(_get(data, "follower", "motion")) == "oscillating"
     units = _text(data.get("units"))
     units = units if units in ("mm", "in") else "mm"
-    context = {"units": units, "oscillating": oscillating}
+    context = {"units": units, "oscillating": oscillating, "sizing": sizing}
     try:
-        design = Design.model_validate({**data, "source": doc.file}, context=context)
-        if checks is not None:
-            checks(design)
+        return Design.model_validate({**data, "source": doc.file, "sized": sized},
+                                     context=context)
     except ValidationError as exc:
         raise _first_error(exc, doc, shaped) from None
-    except RuleViolation as exc:
-        yaml_path = shaped.yaml_path(exc.path)
-        got = doc.value_at(yaml_path) if exc.show_got else None
-        raise DesignError(
-            exc.error.problem,
-            location=Location(doc.file, doc.line_of(yaml_path), dotted(exc.path)),
-            got=got,
-            allowed=exc.error.allowed,
-            hint=exc.error.hint,
-            show_got=exc.show_got and got is not None,
-        ) from None
-    return design
+
+
+def _rule_error(exc: RuleViolation, doc: SourceDocument, shaped: _Shaper) -> DesignError:
+    """A broken rule as camfab's message on the line of the key it names."""
+    yaml_path = shaped.yaml_path(exc.path)
+    got = doc.value_at(yaml_path) if exc.show_got else None
+    return DesignError(
+        exc.error.problem,
+        location=Location(doc.file, doc.line_of(yaml_path), dotted(exc.path)),
+        got=got,
+        allowed=exc.error.allowed,
+        hint=exc.error.hint,
+        show_got=exc.show_got and got is not None,
+    )
+
+
+def _auto_keys(data: dict[str, Any], shaped: _Shaper) -> frozenset[str]:
+    """The keys the design gives as ``auto`` (``section.key``); one its cam type does not size
+    is reported on its line."""
+    spec = CAM_TYPES.get(_text(_get(data, "cam", "type")) or "")
+    found = set()
+    for key in AUTO_KEYS:
+        path = tuple(key.split("."))
+        value = _get(data, *path)
+        if not (isinstance(value, str) and value.strip().lower() == "auto"):
+            continue
+        if spec is None:
+            continue  # the cam type itself is reported
+        if key not in spec.auto_keys:
+            _not_sized(shaped, path, spec)
+        found.add(key)
+    return frozenset(found)
+
+
+def _not_sized(shaped: _Shaper, path: tuple[str, ...], spec: CamTypeSpec) -> NoReturn:
+    key = f"{path[0]}.{path[1]}"
+    sizable = [name for name, row in CAM_TYPES.items() if key in row.auto_keys]
+    reason = ("its shape sets its motion; " if spec.shaped else
+              "it is not a radius camfab sizes; " if spec.auto_keys else "")
+    shaped.fail(path, f"a {spec.name} cam's {path[1]} cannot be sized: {reason}camfab sizes "
+                f"{key} of {', '.join(sizable) or 'no'} cams", show_got=False)
+
+
+def _without(data: dict[str, Any], keys: frozenset[str]) -> dict[str, Any]:
+    """*data* without *keys* (``section.key``)."""
+    out = dict(data)
+    for key in keys:
+        section, name = key.split(".")
+        if isinstance(out.get(section), dict):
+            out[section] = {k: v for k, v in out[section].items() if k != name}
+    return out
+
+
+def _with_sizes(data: dict[str, Any], sized: Sized) -> dict[str, Any]:
+    """*data* with the values of *sized* (mm) in the design's units."""
+    per_unit = MM_PER_UNIT.get(_text(data.get("units")) or "mm", 1.0)
+    out = dict(data)
+    for key, value in (("cam.base_radius", sized.base_radius), ("cam.radius", sized.radius),
+                       ("follower.offset", sized.offset)):
+        if value is None:
+            continue
+        section, name = key.split(".")
+        out[section] = {**out.get(section, {}), name: value / per_unit}
+    return out
 
 
 def _get(data: Any, *keys: str) -> Any:

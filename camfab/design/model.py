@@ -293,6 +293,31 @@ class Limits(Frozen):
 DEFAULT_TOLERANCE_MM = 0.001
 
 
+class SizingOptions(Frozen):
+    """How a size camfab chooses (``auto``) is finished: ``round_to`` rounds the chosen radius up
+    to a stock step (mm)."""
+
+    round_to: PositiveLength | None = None
+
+
+class Sized(Frozen):
+    """What camfab sized of a design that said ``auto``: the values chosen (mm; None where the
+    design gave the value) and the limit that governs them — its check id, the limit in words,
+    its value at the chosen size and the limit (in ``unit``: ``mm`` or ``deg``), and the cam
+    angle where it binds (deg; None for a limit of the part's fit, such as the bore)."""
+
+    base_radius: float | None = None
+    offset: float | None = None
+    radius: float | None = None
+    governed_by: str
+    what: str
+    value: float | None = None
+    limit: float | None = None
+    unit: str = "mm"
+    at_deg: float | None = None
+    rounded_to: float | None = None
+
+
 class Manufacturing(Frozen):
     """Manufacturing settings (mm): export ``tolerance``, laser ``kerf``, CNC ``cutter_radius``."""
 
@@ -317,13 +342,16 @@ class Design(Frozen):
     manufacturing: Manufacturing = Manufacturing()
     outputs: tuple[OutputName, ...] | None = None
     table_step: PositiveAngle = math.radians(1.0)
+    sizing: SizingOptions = SizingOptions()
     source: str = Field(default="", exclude=True)
+    #: What camfab sized where the design file said ``auto`` (None: nothing).
+    sized: Sized | None = Field(default=None, exclude=True)
 
     @model_validator(mode="after")
-    def _rules(self) -> Design:
+    def _rules(self, info: ValidationInfo) -> Design:
         from camfab.design.rules import check_rules
 
-        check_rules(self)
+        check_rules(self, frozenset(_ctx(info).get("sizing", ())))
         return self
 
     @cached_property

@@ -58,24 +58,29 @@ def fail(path: tuple[str | int, ...], problem: str, *, show_got: bool = True,
     raise RuleViolation(path, DesignError(problem, allowed=allowed, hint=hint), show_got)
 
 
-def check_rules(design: Design) -> None:
+def check_rules(design: Design, sizing: frozenset[str] = frozenset()) -> None:
     """Raise :class:`RuleViolation` for the first broken rule: the rules every design has, and
-    at their places those of its cam type (:class:`~camfab.design.cam_types.CamTypeSpec`)."""
-    _check_cam(design)
-    _check_follower(design)
-    program = _check_motion(design)
-    _check_oscillating(design, program.max_lift)
-    design.cam.spec.check_fit(design, program)
+    at their places those of its cam type (:class:`~camfab.design.cam_types.CamTypeSpec`).
+
+    *sizing* names the keys (``cam.base_radius``, ``follower.offset``, ``cam.radius``) the
+    design leaves to camfab (``auto``): they are missing, and the rules that need them wait for
+    the sized design, which is checked in full."""
+    _check_cam(design, sizing)
+    _check_follower(design, sizing)
+    program = _check_motion(design, sizing)
+    if not sizing:
+        _check_oscillating(design, program.max_lift)
+        design.cam.spec.check_fit(design, program)
     _check_swinging_face(design, program)
     _check_manufacturing(design)
     _check_other(design)
     _check_size(design, program.max_lift)
 
 
-def _check_cam(design: Design) -> None:
+def _check_cam(design: Design, sizing: frozenset[str]) -> None:
     cam, spec = design.cam, design.cam.spec
     for key in spec.required:
-        if getattr(cam, key) is None:
+        if getattr(cam, key) is None and f"cam.{key}" not in sizing:
             fail(("cam", key), f"required for a {cam.type} cam", show_got=False)
     tolerance = design.manufacturing.tolerance
     if cam.base_radius is not None and cam.base_radius <= tolerance:
@@ -85,7 +90,8 @@ def _check_cam(design: Design) -> None:
         fail(("cam", "groove_depth"), f"must be larger than the export tolerance "
              f"({mm(tolerance)}): a shallower groove cannot be cut to it")
     spec.check_cam(design)
-    if spec.bore_within is not None:
+    # a radius left to the sizing is sized to keep the bore and keyway inside
+    if spec.bore_within is not None and f"cam.{spec.bore_within}" not in sizing:
         rb = getattr(cam, spec.bore_within) or 0.0
         if cam.bore is not None and cam.bore / 2 > rb - MIN_WALL_MM:
             fail(("cam", "bore"),
@@ -97,13 +103,14 @@ def _check_cam(design: Design) -> None:
         assert cam.bore is not None
         if cam.keyway.width >= cam.bore:
             fail(("cam", "keyway", "width"), f"must be narrower than the bore ({mm(cam.bore)})")
-        outer = None if spec.keyway_within is None else getattr(cam, spec.keyway_within)
+        outer = (None if spec.keyway_within is None or f"cam.{spec.keyway_within}" in sizing
+                 else getattr(cam, spec.keyway_within))
         if outer is not None and cam.bore / 2 + cam.keyway.depth > outer - MIN_WALL_MM:
             fail(("cam", "keyway", "depth"),
                  f"cuts to within {MIN_WALL_MM:g} mm of the cam's edge")
 
 
-def _check_follower(design: Design) -> None:
+def _check_follower(design: Design, sizing: frozenset[str]) -> None:
     cam, fol, spec = design.cam, design.follower, design.cam.spec
     allowed = spec.followers
     if fol.type not in allowed:
@@ -121,14 +128,14 @@ def _check_follower(design: Design) -> None:
         for key in ("pivot_distance", "arm_length"):
             if getattr(fol, key) is None:
                 fail(("follower", key), "required for an oscillating follower", show_got=False)
-    elif spec.disc_curves and fol.type != "flat":
+    elif spec.disc_curves and fol.type != "flat" and not sizing:
         rp = (cam.base_radius or 0.0) + fol.trace_radius
         if abs(fol.offset) >= rp:
             fail(("follower", "offset"),
                  f"|offset| must be smaller than the prime circle radius {mm(rp)}")
 
 
-def _check_motion(design: Design) -> MotionProgram:
+def _check_motion(design: Design, sizing: frozenset[str]) -> MotionProgram:
     from camfab.motion.program import ProgramError
 
     spec = design.cam.spec
@@ -172,7 +179,8 @@ def _check_motion(design: Design) -> MotionProgram:
             path = (*path, *_split(exc.field))
         fail(path, exc.problem, show_got=False)
     _check_excursion(design, program)
-    _check_steepness(design, program)
+    if not sizing:
+        _check_steepness(design, program)
     spec.check_program(design, program)
     return program
 
@@ -233,33 +241,44 @@ def _check_oscillating(design: Design, max_swing: float) -> None:
     fol = design.follower
     if not fol.oscillating or not design.cam.spec.disc_curves:
         return
-    a, arm = fol.pivot_distance or 0.0, fol.arm_length or 0.0
-    rb = design.cam.base_radius or 0.0
-    if fol.type == "flat":
+    broken = oscillating_fit(FollowerGeometry.from_design(design), design.cam.base_radius or 0.0,
+                             max_swing)
+    if broken is not None:
+        key, problem = broken
+        fail(("follower", key), problem)
+
+
+def oscillating_fit(fol: FollowerGeometry, rb: float, max_swing: float) -> tuple[str, str] | None:
+    """Whether an oscillating follower *fol* fits a plate cam of base radius *rb* (mm) through a
+    swing of *max_swing* (rad): None, or the follower key to blame and the problem. The arm must
+    reach the prime circle (a flat face: touch the base circle), stay short of 180° from the line
+    of centres, and keep the pivot outside the cam."""
+    a, arm = fol.pivot_distance, fol.arm_length
+    if fol.flat:
         ratio = (rb + fol.face_offset) / a
         if not 0.0 < ratio < 1.0:
-            fail(("follower", "face_offset"), "the face line cannot touch the base circle from "
-                 f"this pivot: (base radius + face_offset)/pivot_distance = {ratio:.4g} must lie "
-                 "in (0, 1)")
+            return ("face_offset", "the face line cannot touch the base circle from this pivot: "
+                    f"(base radius + face_offset)/pivot_distance = {ratio:.4g} must lie in (0, 1)")
     else:
-        rp = rb + fol.trace_radius
+        rp = rb + fol.radius
         if not abs(a - arm) < rp < a + arm:
-            fail(("follower", "arm_length"), f"the arm cannot reach the prime circle: need "
-                 f"|pivot_distance − arm_length| < {mm(rp)} < pivot_distance + arm_length")
-    psi0 = FollowerGeometry.from_design(design).rest_position(rb)
+            return ("arm_length", f"the arm cannot reach the prime circle: need "
+                    f"|pivot_distance − arm_length| < {mm(rp)} < pivot_distance + arm_length")
+    psi0 = fol.rest_position(rb)
     if psi0 + max_swing >= math.pi:
-        fail(("follower", "arm_length"), f"the arm starts at {math.degrees(psi0):.4g}° from the "
-             f"line of centres and swings {math.degrees(max_swing):.4g}°: it would pass 180°")
+        return ("arm_length", f"the arm starts at {math.degrees(psi0):.4g}° from the line of "
+                f"centres and swings {math.degrees(max_swing):.4g}°: it would pass 180°")
     # the cam's largest radius: the face line's farthest distance from the cam centre, or the
     # trace point's farthest distance less the roller radius; the pivot must lie beyond it
     top = psi0 + max_swing
-    if fol.type == "flat":
+    if fol.flat:
         reach = a * math.sin(min(top, math.pi / 2)) - fol.face_offset
     else:
-        reach = math.sqrt(a * a + arm * arm - 2 * a * arm * math.cos(top)) - fol.trace_radius
+        reach = math.sqrt(a * a + arm * arm - 2 * a * arm * math.cos(top)) - fol.radius
     if reach >= a:
-        fail(("follower", "pivot_distance"), f"the cam would reach {mm(reach)} from its centre, "
-             f"past the pivot: the pivot must lie outside the cam", show_got=True)
+        return ("pivot_distance", f"the cam would reach {mm(reach)} from its centre, past the "
+                "pivot: the pivot must lie outside the cam")
+    return None
 
 
 #: An oscillating flat face touches the cam at l = a·cos Ψ/(1 + σψ′) from the pivot (THEORY §B):

@@ -103,6 +103,7 @@ def page_template(name: str) -> jinja2.Template:
 
 def render_report_html(analysis: Analysis) -> bytes:
     """The report page as UTF-8 bytes."""
+    from camfab.analysis.sizing_words import sized_words
     from camfab.export import figures
     from camfab.export.report_json import report_data
 
@@ -122,6 +123,7 @@ def render_report_html(analysis: Analysis) -> bytes:
         summary=f"{kind}, {result.motion_words(design)}, {follower}; {errors} error(s), "
                 f"{warnings} warning(s)",
         findings=_findings(analysis),
+        sized=sized_words(design),
         drawing=figures.cam_drawing(analysis),
         drawing_title=result.drawing_title,
         numbers=_numbers(report), segment_head=head, segment_rows=rows,

@@ -18,6 +18,7 @@ from camfab.analysis.findings import count
 
 if TYPE_CHECKING:
     from camfab.analysis.record import Analysis
+    from camfab.design import Design
 
 
 def report_dict(analysis: Analysis) -> dict[str, Any]:
@@ -35,6 +36,7 @@ def report_dict(analysis: Analysis) -> dict[str, Any]:
         "speed_rpm": cam.speed_rpm,
         "follower": {"type": fol.type, "motion": fol.motion},
         "geometry": analysis.result.report_geometry(analysis),
+        "sizing": sizing_dict(design),
         "motion": {
             units.lift_key.replace("lift", "max_lift"): units.lift_value(analysis.program.max_lift),
             "segment_count": len(analysis.program.segments),
@@ -50,6 +52,21 @@ def report_dict(analysis: Analysis) -> dict[str, Any]:
             "warnings": count(analysis.findings, "warning"),
         },
     }
+
+
+def sizing_dict(design: Design) -> dict[str, Any] | None:
+    """What camfab sized where the design said ``auto`` (mm, deg), or None: the values chosen,
+    the limit that governs them (its check id, the limit in words, its value and limit in
+    ``unit``, the cam angle where it binds) and the stock step the radius was rounded up to."""
+    sized = design.sized
+    if sized is None:
+        return None
+    values = {"base_radius_mm": sized.base_radius, "offset_mm": sized.offset,
+              "radius_mm": sized.radius}
+    return {**{k: v for k, v in values.items() if v is not None},
+            "governed_by": sized.governed_by, "governing_limit": sized.what,
+            "value": sized.value, "limit": sized.limit, "unit": sized.unit,
+            "at_deg": sized.at_deg, "round_to_mm": sized.rounded_to}
 
 
 def _dynamics(analysis: Analysis) -> dict[str, Any]:

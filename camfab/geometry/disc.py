@@ -21,6 +21,7 @@ from camfab.curves.plane import (
     CurvePoints,
     curve_from_frame,
     dot,
+    frame_radius,
     offset_inward,
     perp,
     rotate,
@@ -133,6 +134,12 @@ class DiscCam:
         """
         f, df, ddf, _ = self.trace(m)
         return curve_from_frame(theta, self.sigma, f, df, ddf)
+
+    def pitch_radius(self, m: Array) -> Array:
+        """The pitch curve's signed radius of curvature (mm) at the motion *m*, as
+        :meth:`pitch` gives it, without the curve's points."""
+        f, df, ddf, _ = self.trace(m)
+        return frame_radius(self.sigma, f, df, ddf)
 
     def working(self, theta: Array, m: Array, lines: FaceLines | None = None) -> CurvePoints:
         """The working curve (cam profile): the envelope of the follower's contact shape.

@@ -20,6 +20,7 @@ if TYPE_CHECKING:
     from camfab.analysis.findings import Finding
     from camfab.analysis.kinematics import MotionUnits, SegmentStats
     from camfab.analysis.record import Analysis
+    from camfab.analysis.sizing import ProblemOf
     from camfab.analysis.verification import Verification
     from camfab.design import Design
     from camfab.export.part import Part
@@ -59,6 +60,14 @@ class CamKind(Protocol):
             Analysis, Verification]:
         """The *files* made of *part* read back as their users would, the follower run over
         them: the analysis (with what reading them back changes) and what was found."""
+
+
+def sizing_of(cam_type: str) -> ProblemOf | None:
+    """The sizing of a ``cam.type``'s radius (:mod:`camfab.analysis.sizing`): its kind's
+    ``size_problem``, or None for a kind camfab does not size (its shape sets its motion, or it
+    has no radius to size)."""
+    problem: ProblemOf | None = getattr(kind_of(cam_type), "size_problem", None)
+    return problem
 
 
 #: ``cam.type`` -> the module holding its kind (imported when a design of that type is built),

@@ -15,8 +15,10 @@ if TYPE_CHECKING:
     from camfab.analysis.cam_checks import CamNumbers
     from camfab.analysis.findings import Finding
     from camfab.analysis.kinematics import MotionUnits, SegmentStats
+    from camfab.analysis.sizing import Grid, SizeProblem
     from camfab.analysis.verification import Verification
     from camfab.arrays import Array
+    from camfab.curves.follower import FollowerGeometry
     from camfab.curves.profile import Profile
     from camfab.design import Design
     from camfab.export.part import Drawing, Part, Solid
@@ -247,6 +249,14 @@ class Disc:
     @staticmethod
     def part(analysis: Analysis) -> Part:
         return plate_part(analysis)
+
+    @staticmethod
+    def size_problem(design: Design, follower: FollowerGeometry,
+                     grid_pair: tuple[Grid, Grid]) -> SizeProblem:
+        """The sizing of the base radius (:mod:`camfab.analysis.plate_sizing`)."""
+        from camfab.analysis.plate_sizing import plate_problem
+
+        return plate_problem(design, follower, grid_pair)
 
 
 KIND = Disc()

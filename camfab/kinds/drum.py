@@ -20,7 +20,9 @@ if TYPE_CHECKING:
     from camfab.analysis.drum_checks import DrumNumbers
     from camfab.analysis.findings import Finding
     from camfab.analysis.kinematics import MotionUnits, SegmentStats
+    from camfab.analysis.sizing import Grid, SizeProblem
     from camfab.arrays import Array
+    from camfab.curves.follower import FollowerGeometry
     from camfab.curves.profile import Profile
     from camfab.design import Design
     from camfab.export.part import Drawing, Part
@@ -155,6 +157,15 @@ class Drum:
     def verify(analysis: Analysis, part: Part, files: PartFiles) -> tuple[Analysis,
                                                                           Verification]:
         return analysis, drum_verify(analysis, part, files)
+
+
+    @staticmethod
+    def size_problem(design: Design, follower: FollowerGeometry,
+                     grid_pair: tuple[Grid, Grid]) -> SizeProblem:
+        """The sizing of the drum's radius (:func:`camfab.analysis.drum_checks.drum_problem`)."""
+        from camfab.analysis.drum_checks import drum_problem
+
+        return drum_problem(design, grid_pair)
 
 
 KIND = Drum()

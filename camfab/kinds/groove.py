@@ -30,6 +30,8 @@ if TYPE_CHECKING:
     from camfab.analysis.findings import Finding
     from camfab.analysis.kinematics import MotionUnits, SegmentStats
     from camfab.analysis.record import Analysis
+    from camfab.analysis.sizing import Grid, SizeProblem
+    from camfab.curves.follower import FollowerGeometry
     from camfab.curves.profile import Profile
     from camfab.design import Design
     from camfab.export.part import Drawing, Part, Solid
@@ -369,6 +371,16 @@ class Groove:
 
     part = staticmethod(groove_part)
     verify = staticmethod(groove_verify)
+
+    @staticmethod
+    def size_problem(design: Design, follower: FollowerGeometry,
+                     grid_pair: tuple[Grid, Grid]) -> SizeProblem:
+        """The sizing of the base radius: the inner wall's (the roller plus half the
+        clearance), both walls offsets of the pitch curve."""
+        from camfab.analysis.plate_sizing import plate_problem
+
+        return plate_problem(design, follower, grid_pair, design.follower.groove_clearance / 2,
+                             groove=True)
 
     @staticmethod
     def check(design: Design) -> None:

@@ -31,7 +31,9 @@ if TYPE_CHECKING:
     from camfab.analysis.kinematics import MotionUnits, SegmentStats
     from camfab.analysis.partner_checks import Partner
     from camfab.analysis.record import Analysis
+    from camfab.analysis.sizing import Grid, SizeProblem
     from camfab.arrays import Array
+    from camfab.curves.follower import FollowerGeometry
     from camfab.design import Design
     from camfab.export.part import Part
     from camfab.export.serialise import PartFiles
@@ -340,6 +342,14 @@ class Conjugate:
         rollers run over the outlines together, to measure whether they hold the follower."""
         check = _verify_pair(analysis, part, files)
         return _held(analysis, check), check
+
+    @staticmethod
+    def size_problem(design: Design, follower: FollowerGeometry,
+                     grid_pair: tuple[Grid, Grid]) -> SizeProblem:
+        """The sizing of cam a's base radius, cam b's limits with it."""
+        from camfab.analysis.plate_sizing import plate_problem
+
+        return plate_problem(design, follower, grid_pair, partner=True)
 
 
 CONSTANT_BREADTH = ConstantBreadth()
