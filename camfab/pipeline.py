@@ -72,8 +72,9 @@ def size_design(design: Design, keys: frozenset[str], pivot: bool = False) -> Si
 
 def sized_values(design: Design, keys: frozenset[str]) -> Sized:
     """What :func:`size_design` chooses for the keys a design gives as ``auto`` (the sizer of
-    :func:`camfab.design.load_design`); a key no value of which meets the limits is a broken
-    rule of the design file."""
+    :func:`camfab.design.load_design`): an offset alone is the one that would let the base
+    radius be least, the base radius staying as given. A key no value of which meets the limits
+    is a broken rule of the design file."""
     from camfab.analysis.sizing import unmet_words
     from camfab.design.model import Sized
     from camfab.design.rules import fail
@@ -85,9 +86,10 @@ def sized_values(design: Design, keys: frozenset[str]) -> Sized:
         fail(("cam", key), f"auto: {unmet_words(sizing, key.replace('_', ' '))}",
              show_got=False)
     governing = sizing.found.governing
+    asked = f"cam.{sizing.key}" in keys  # else only the offset: the radius stays as given
     return Sized(
-        base_radius=size if sizing.key == "base_radius" else None,
-        radius=size if sizing.key == "radius" else None,
+        base_radius=size if asked and sizing.key == "base_radius" else None,
+        radius=size if asked and sizing.key == "radius" else None,
         offset=sizing.offset,
         governed_by=governing.id if governing is not None else "",
         what=governing.what if governing is not None else "",

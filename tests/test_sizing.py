@@ -319,11 +319,14 @@ def test_camfab_size_says_when_no_size_meets_the_limits(tmp_path: Path) -> None:
     result = run_cli("size", str(_write(tmp_path, data)))
     assert result.exit_code == 1, result.output
     assert "no base radius up to" in result.output
-    assert "pressure angle must be at most 0.1°, and the best reached is" in result.output
+    assert re.search(r"pressure angle is [\d.]+° at best, at a base radius of [\d.]+ mm \(it "
+                     r"must be at most 0\.1°\)", result.output), result.output
     face = starter("disc-flat")
     face["follower"]["face_width"] = 5
     result = run_cli("size", str(_write(tmp_path, face)))
-    assert result.exit_code == 1 and "face width" in result.output
+    assert result.exit_code == 1, result.output
+    assert "the face width the contact needs is" in result.output
+    assert "whatever the base radius (it must be at most 5.0000 mm)" in result.output
 
 
 def test_camfab_size_refuses_what_it_does_not_size(tmp_path: Path) -> None:
@@ -360,3 +363,15 @@ def test_a_failing_build_names_the_size_that_passes(tmp_path: Path) -> None:
         suggested["cam"]["base_radius"] = radius + 1e-4  # the message rounds to 1e-4 mm
         suggested["follower"]["offset"] = e
         assert "pressure_angle" not in _failed(suggested), (radius, e)
+
+
+def test_an_offset_alone_is_sized_and_the_base_radius_stays(tmp_path: Path) -> None:
+    data = yaml.safe_load((DESIGNS / "seed-10-4.yaml").read_text())
+    data["cam"]["base_radius"] = 60
+    _, both = sized(tmp_path, data, offset=True)
+    data["follower"]["offset"] = "auto"
+    design = design_from_text(yaml.safe_dump(data))
+    assert design.cam.base_radius == 60
+    assert design.sized is not None and design.sized.base_radius is None
+    assert design.follower.offset == pytest.approx(both.offset, abs=1e-9)
+    assert design.sized.offset == pytest.approx(both.offset, abs=1e-9)

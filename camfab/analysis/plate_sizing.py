@@ -104,7 +104,7 @@ class CamLimits:
             contact = cam.face_contact(theta, motion, lines)
             low_mm, high_mm = float(contact.min()), float(contact.max())
             needed = high_mm - low_mm if fol.oscillating else 2.0 * max(abs(low_mm), abs(high_mm))
-            out.append(LimitValue("face_width" + suffix, "the face width contact needs",
+            out.append(LimitValue("face_width" + suffix, "the face width the contact needs",
                                   self.face_width >= needed, needed, self.face_width, "mm", "max"))
         return out
 

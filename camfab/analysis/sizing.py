@@ -153,6 +153,10 @@ class Found:
     limits: tuple[LimitValue, ...]
     governing: LimitValue | None
     unmet: tuple[LimitValue, ...] = field(default=())
+    #: When no size meets the limits: the largest size searched (mm), and the limits whose
+    #: value is the same at every size.
+    searched_to: float | None = None
+    unchanged: frozenset[str] = frozenset()
 
     @property
     def ok(self) -> bool:
@@ -195,13 +199,17 @@ def _none(problem: SizeProblem, sizes: list[float]) -> Found:
     """No size meets the limits: for each limit that fails at every size of the scan, the best
     value it reached (``least``: the size where)."""
     best: dict[str, LimitValue] = {}
+    seen: dict[str, set[float]] = {}
     for size in sizes:
         for limit in problem.evaluate(size, False):
+            if limit.value is not None:
+                seen.setdefault(limit.id, set()).add(round(limit.value, 9))
             if not limit.ok and (limit.id not in best or limit.better(best[limit.id])):
                 best[limit.id] = _at(limit, size)
     limits = problem.evaluate(sizes[-1], False)
     unmet = tuple(best[limit.id] for limit in limits if not limit.ok and limit.id in best)
-    return Found(None, tuple(limits), None, unmet)
+    return Found(None, tuple(limits), None, unmet, sizes[-1],
+                 frozenset(key for key, values in seen.items() if len(values) == 1))
 
 
 def _at(limit: LimitValue, size: float) -> LimitValue:
@@ -462,19 +470,21 @@ def fmt(value: float | None, unit: str = "") -> str:
 
 
 def unmet_words(sizing: Sizing, name: str) -> str:
-    """Why no size meets the limits: for each limit no size met, the best value reached and
-    at which size (*name*: the key sized, in words)."""
+    """Why no size meets the limits: for each limit no size met, the best value it reached and
+    at which size, or that no size changes it (*name*: the key sized, in words)."""
     found = sizing.found
-    high = max((limit.least or 0.0) for limit in found.unmet) if found.unmet else None
     parts = []
     for limit in found.unmet:
         bound = "at most" if limit.sense == "max" else "at least"
-        parts.append(f"{limit.what} must be {bound} {fmt(limit.limit, limit.unit)}, and the best "
-                     f"reached is {fmt(limit.value, limit.unit)} (at a {name} of "
-                     f"{fmt(limit.least, 'mm')})")
+        if limit.id in found.unchanged:
+            where = f"whatever the {name}"
+        else:
+            where = f"at best, at a {name} of {fmt(limit.least, 'mm')}"
+        parts.append(f"{limit.what} is {fmt(limit.value, limit.unit)} {where} (it must be "
+                     f"{bound} {fmt(limit.limit, limit.unit)})")
     if not parts:
         parts = [limit.what for limit in found.limits if not limit.ok]
-    reach = f" up to {fmt(high, 'mm')}" if high else ""
+    reach = f" up to {fmt(found.searched_to, 'mm')}" if found.searched_to else ""
     return f"no {name}{reach} meets the limits: {'; '.join(parts)}"
 
 
