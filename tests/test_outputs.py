@@ -31,7 +31,9 @@ def test_report_has_the_contract_keys() -> None:
     for key in ("camfab_version", "name", "cam_type", "follower", "geometry", "segments",
                 "checks", "dynamics", "verification"):
         assert key in report
-    assert report["follower"] == {"type": "roller", "motion": "translating"}
+    assert {k: report["follower"][k] for k in ("type", "motion")} == {"type": "roller",
+                                                                    "motion": "translating"}
+    assert report["follower"]["roller_radius_mm"] == 7.0
     geometry = report["geometry"]
     for key in ("base_radius_mm", "prime_radius_mm", "max_radius_mm",
                 "pitch_min_radius_of_curvature_mm", "profile_min_radius_of_curvature_mm",

@@ -26,13 +26,14 @@ def test_report_holds_every_check_and_its_figures(name: str) -> None:
     rows = re.findall(r'<tr class="(fail|warn|)"><td class="mark', page)
     assert len(rows) == len(analysis.findings)
     for finding in analysis.findings:
-        assert f"<td>{finding.id}</td>" in page
+        label = finding.id if finding.quantity is None else f"{finding.id} ({finding.quantity})"
+        assert f"<td>{label}</td>" in page
     assert len(re.findall(r"<svg[ >]", page)) >= 2  # the drawing and the diagrams
     dyn = analysis.dynamics
     assert ('id="dynamics"' in page) == (dyn is not None and dyn.force_N is not None)
     assert "<metadata>" not in page
     # the verification's numbers are on the page
-    assert "max lift error mm" in page
+    assert "max lift error (mm)" in page
 
 
 def test_undercut_is_marked_on_the_drawing() -> None:

@@ -27,7 +27,7 @@ class CamResult:
 
     numbers: Any
     #: The heading of the report's drawing.
-    drawing_title = "The cam at θ = 0"
+    drawing_title = "The cam turning, the follower on it"
     #: ``camfab inspect`` with another follower runs it over the working curve sampled finer
     #: than the cam's outline (a disc cam's), rather than over the outline as computed.
     refine_for_inspection = False

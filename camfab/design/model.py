@@ -64,12 +64,16 @@ def _as(kind: U.Kind) -> Any:
     def convert(value: Any, info: ValidationInfo) -> Any:
         return None if value is None else _convert(value, kind, info)
 
+    convert.kind = kind  # type: ignore[attr-defined]  # what the report converts back
     return BeforeValidator(convert)
 
 
 def _lift(value: Any, info: ValidationInfo) -> Any:
     """A lift, converted as its follower needs (see :func:`_lift_kind`)."""
     return None if value is None else _convert(value, _lift_kind(info), info)
+
+
+_lift.kind = "lift"  # type: ignore[attr-defined]  # a length or an angle, by the follower
 
 
 def _problem(problem: str, allowed: Any = None, hint: str | None = None) -> PydanticCustomError:

@@ -20,8 +20,10 @@ calls made: the same figure gives the same bytes.
 
 from __future__ import annotations
 
+import json
 import math
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from html import escape
 from typing import Any
@@ -33,8 +35,9 @@ from camfab.arrays import runs
 #: Points per inch: figure sizes are given in inches, as in the figures' callers.
 PT_PER_IN = 72.0
 
-#: Font size (pt) of tick labels and of axis labels when none is given.
-TICK_FONT, LABEL_FONT = 8.0, 9.0
+#: Font size (pt) of tick labels and of axis labels when none is given: 8.5 pt is 11.3 px on a
+#: page at 100 % zoom.
+TICK_FONT, LABEL_FONT = 8.5, 9.5
 
 #: Tick mark length (pt), outward, and the gap (pt) between a tick and its label.
 TICK_LENGTH, TICK_PAD = 3.5, 2.0
@@ -74,7 +77,7 @@ class Style:
 
 @dataclass
 class _Item:
-    kind: str  # line, fill, hline, vline, text, arrow
+    kind: str  # line, fill, hline, vline, text, arrow, extent
     zorder: float
     style: Style
     label: str | None = None
@@ -82,6 +85,7 @@ class _Item:
     y: np.ndarray = field(default_factory=lambda: np.zeros(0))
     text: str = ""
     options: dict[str, Any] = field(default_factory=dict)
+    group: str | None = None
 
 
 def nice_ticks(low: float, high: float, bins: int) -> np.ndarray:
@@ -209,6 +213,43 @@ class Axes:
         self.xtick_labels = True
         self.legend_options: dict[str, Any] | None = None
         self.shared: list[Axes] = [self]
+        #: The group the items added now go into (drawn together in a ``<g>``), and the
+        #: animation frames of each group: one SVG transform per frame.
+        self.current_group: str | None = None
+        self.frames: dict[str, list[str]] = {}
+
+    def _add(self, item: _Item) -> None:
+        item.group = self.current_group
+        self.items.append(item)
+
+    @contextmanager
+    def group(self, name: str) -> Iterator[None]:
+        """Items added inside go into the group *name*: one ``<g>``, which :meth:`animate`
+        can move."""
+        outer, self.current_group = self.current_group, name
+        try:
+            yield
+        finally:
+            self.current_group = outer
+
+    def animate(self, name: str, frames: list[str]) -> None:
+        """Frames of the group *name*: its SVG ``transform`` at each step of an animation
+        (written on the group as ``data-frames``, with the panel's mapping of data to points as
+        ``data-map``, :meth:`to_frame`; the page's script applies them)."""
+        self.frames[name] = frames
+
+    def include(self, x: Any, y: Any) -> None:
+        """Points the panel's limits must hold, drawn as nothing (where an animated group will
+        move to)."""
+        self._add(_Item("extent", 0.0, Style(), None, np.asarray(x, dtype=float).ravel(),
+                                np.asarray(y, dtype=float).ravel()))
+
+    def to_frame(self) -> tuple[float, float, float, float]:
+        """How data maps onto the figure once everything is added: (x, y) of the data origin
+        (pt) and the points per data unit across and up: px = x0 + kx·x, py = y0 − ky·y."""
+        left, top, width, height, (x0, x1), (y0, y1) = self.frame()
+        kx, ky = width / (x1 - x0), height / (y1 - y0)
+        return left - x0 * kx, top + height + y0 * ky, kx, ky
 
     # --- adding things -------------------------------------------------------------------------
 
@@ -220,13 +261,13 @@ class Axes:
         (NaN breaks a line)."""
         style = Style(color, linewidth, linestyle, fmt, markersize,
                       "none" if markerfacecolor == "none" else markerfacecolor, markeredgecolor)
-        self.items.append(_Item("line", zorder, style, label, np.asarray(x, dtype=float).ravel(),
+        self._add(_Item("line", zorder, style, label, np.asarray(x, dtype=float).ravel(),
                                 np.asarray(y, dtype=float).ravel()))
 
     def fill(self, x: Any, y: Any, *, color: str, zorder: float = 1.0, alpha: float = 1.0,
              label: str | None = None) -> None:
         """A filled polygon through (x, y)."""
-        self.items.append(_Item("fill", zorder, Style(color, alpha=alpha), label,
+        self._add(_Item("fill", zorder, Style(color, alpha=alpha), label,
                                 np.asarray(x, dtype=float), np.asarray(y, dtype=float)))
 
     def fill_between(self, x: Any, y1: Any, y2: float = 0.0, *, where: Any = None,
@@ -243,13 +284,20 @@ class Axes:
     def axhline(self, y: float, *, color: str, linewidth: float = 1.0, linestyle: str = "-",
                 label: str | None = None) -> None:
         """A horizontal line across the panel at *y* (it counts in the panel's y range)."""
-        self.items.append(_Item("hline", 2.0, Style(color, linewidth, linestyle), label,
+        self._add(_Item("hline", 2.0, Style(color, linewidth, linestyle), label,
                                 y=np.array([float(y)])))
+
+    def axvspan(self, x0: float, x1: float, *, color: str, alpha: float = 1.0,
+                label: str | None = None) -> None:
+        """A band across the panel's height from *x0* to *x1* (it does not count in the
+        panel's range)."""
+        self._add(_Item("vspan", 0.5, Style(color, alpha=alpha), label,
+                        np.array([float(x0), float(x1)])))
 
     def axvline(self, x: float, *, color: str, linewidth: float = 1.0,
                 linestyle: str = "-") -> None:
         """A vertical line across the panel at *x*."""
-        self.items.append(_Item("vline", 2.0, Style(color, linewidth, linestyle),
+        self._add(_Item("vline", 2.0, Style(color, linewidth, linestyle),
                                 x=np.array([float(x)])))
 
     def text(self, x: float, y: float, text: str, *, fontsize: float = 10.0,
@@ -257,14 +305,14 @@ class Axes:
              y_in_axes: bool = False) -> None:
         """Text at (x, y) in data units; with *y_in_axes*, y is a fraction of the panel's
         height (1 is its top edge)."""
-        self.items.append(_Item("text", 3.0, Style(color), None, np.array([x]), np.array([y]),
+        self._add(_Item("text", 3.0, Style(color), None, np.array([x]), np.array([y]),
                                 text, {"size": fontsize, "ha": ha, "va": va,
                                        "y_in_axes": y_in_axes}))
 
     def arrow(self, start: Sequence[float], end: Sequence[float], *, color: str,
               linewidth: float = 1.0) -> None:
         """An arrow from *start* to *end* (data units), its head at *end*."""
-        self.items.append(_Item("arrow", 3.0, Style(color, linewidth), None,
+        self._add(_Item("arrow", 3.0, Style(color, linewidth), None,
                                 np.array([start[0], end[0]], float),
                                 np.array([start[1], end[1]], float)))
 
@@ -311,8 +359,8 @@ class Axes:
     def _data_range(self, axis: str) -> tuple[float, float] | None:
         values = []
         for item in self.items:
-            if item.kind in ("line", "fill") or (item.kind == "hline" and axis == "y") or \
-                    (item.kind == "vline" and axis == "x"):
+            if item.kind in ("line", "fill", "extent") or (
+                    item.kind == "hline" and axis == "y") or (item.kind == "vline" and axis == "x"):
                 v = item.x if axis == "x" else item.y
                 v = v[np.isfinite(v)]
                 if v.size:
@@ -362,9 +410,26 @@ class Axes:
                f'width="{_num(width)}" height="{_num(height)}"/></clipPath>',
                f'<g clip-path="url(#{clip})">']
         items = sorted(self.items, key=lambda i: i.zorder)
-        # drawn things stay inside the panel; text and arrows may stand outside it
-        out += [self._item_svg(i, px, py, (left, top, width, height)) for i in items
-                if i.kind not in ("text", "arrow")]
+        # drawn things stay inside the panel; text and arrows may stand outside it; a group's
+        # items are drawn together where its first item falls
+        box = (left, top, width, height)
+        done: set[str] = set()
+        for item in items:
+            if item.kind in ("text", "arrow", "extent") or item.group in done:
+                continue
+            if item.group is None:
+                out.append(self._item_svg(item, px, py, box))
+                continue
+            done.add(item.group)
+            frames = self.frames.get(item.group)
+            data = ""
+            if frames is not None:
+                mapping = " ".join(f"{v:.6f}" for v in self.to_frame())
+                data = f" data-frames='{json.dumps(frames)}' data-map=\"{mapping}\""
+            out.append(f'<g id="{figure_name}-{item.group}"{data}>')
+            out += [self._item_svg(i, px, py, box) for i in items
+                    if i.group == item.group and i.kind not in ("text", "arrow", "extent")]
+            out.append("</g>")
         out.append("</g>")
         out += [self._item_svg(i, px, py, (left, top, width, height)) for i in items
                 if i.kind in ("text", "arrow")]
@@ -405,6 +470,11 @@ class Axes:
                     f'fill="none"{_stroke(s)}/>')
         if item.kind == "arrow":
             return _arrow(px(item.x), py(item.y), s)
+        if item.kind == "vspan":
+            x0, x1 = (float(v) for v in px(item.x))
+            opacity = f' fill-opacity="{s.alpha:.3g}"' if s.alpha < 1.0 else ""
+            return (f'<rect x="{_num(x0)}" y="{_num(top)}" width="{_num(x1 - x0)}" '
+                    f'height="{_num(height)}" fill="{s.color}"{opacity}/>')
         o = item.options
         x = float(px(item.x)[0])
         y = top + height * (1.0 - float(item.y[0])) if o["y_in_axes"] else float(py(item.y)[0])
@@ -520,7 +590,7 @@ def _padded(span: tuple[float, float] | None) -> tuple[float, float]:
 
 def _legend_sample(item: _Item, x: float, y: float, length: float) -> str:
     s = item.style
-    if item.kind == "fill":
+    if item.kind in ("fill", "vspan"):
         opacity = f' fill-opacity="{s.alpha:.3g}"' if s.alpha < 1.0 else ""
         return (f'<rect x="{_num(x)}" y="{_num(y - 0.3 * length)}" width="{_num(length)}" '
                 f'height="{_num(0.6 * length)}" fill="{s.color}"{opacity}/>')
@@ -556,6 +626,8 @@ class Figure:
         self.name = name
         self.margins = (left, right, top, bottom, hspace)
         self.axes: list[Axes] = []
+        #: SVG drawn over the panels, as given (pt).
+        self.overlays: list[str] = []
 
     def subplots(self, rows: int = 1, sharex: bool = False) -> list[Axes]:
         """*rows* panels, one under the other (sharing their x range with *sharex*; only the
@@ -577,6 +649,7 @@ class Figure:
         """The figure as an ``<svg>`` element (no XML header), ready to paste into a page."""
         w, h = _num(self.width), _num(self.height)
         body = "".join(ax.render(self.name, i) for i, ax in enumerate(self.axes))
+        body += "".join(self.overlays)
         return (f'<svg xmlns="http://www.w3.org/2000/svg" width="{w}pt" height="{h}pt" '
                 f'viewBox="0 0 {w} {h}" font-family="DejaVu Sans, Helvetica, Arial, sans-serif" '
                 f'stroke-linecap="butt">'

@@ -28,6 +28,9 @@ CUT, PITCH, REFERENCE, BAD, FOLLOWER, WARN = ("#c0392b", "#2c5aa0", "#999999", "
 #: A groove cam's pocket walls, and its wall-change marks.
 POCKET, CHANGE = "#8e44ad", "#0e6e8c"
 
+#: Font size (pt) of the figures' legends and notes: 11 px and more on the page.
+LEGEND_FONT = 8.5
+
 
 def thin(*arrays: np.ndarray) -> list[np.ndarray]:
     """Every n-th value of dense arrays (0.05° apart) so lines are drawn every 0.5°: finer than a
@@ -51,14 +54,15 @@ def _segment_marks(ax: Axes, analysis: Analysis, labels: bool) -> None:
         if labels:
             name = seg.kind if seg.kind == "dwell" else f"{seg.kind}: {seg.law_name}"
             ax.text(math.degrees(seg.start + seg.span / 2), 1.02, name, ha="center",
-                    va="bottom", fontsize=7, y_in_axes=True)
+                    va="bottom", fontsize=LEGEND_FONT, y_in_axes=True)
 
 
 def panel_stack(rows: int) -> tuple[Figure, list[Axes]]:
     """The diagrams' figure: *rows* panels 1.45 in high, one under the other on a shared
     cam-angle axis, 9 in wide."""
     height = 1.45 * rows + 0.6
-    fig = Figure(9.0, height, "diagrams", left=0.11, top=1 - 0.3 / height, bottom=0.45 / height)
+    fig = Figure(9.0, height, "diagrams", left=0.11, right=0.72, top=1 - 0.3 / height,
+                 bottom=0.45 / height)
     return fig, fig.subplots(rows, sharex=True)
 
 
@@ -77,7 +81,19 @@ def diagrams(analysis: Analysis) -> str:
         _segment_marks(ax, analysis, labels=ax is axes[0])
     axes[-1].set_xlabel("cam angle θ (deg)")
     angle_axis(*axes)
+    add_cursor(fig, axes)
     return fig.svg()
+
+
+def add_cursor(fig: Figure, axes: list[Axes]) -> None:
+    """A vertical line through every panel at θ = 0, which the page's script moves to the
+    animation's cam angle: it is at x0 + kx·θ (pt, θ in degrees)."""
+    ox, _, kx, _ = axes[0].to_frame()
+    top = axes[0].frame()[1]
+    bottom = axes[-1].frame()[1] + axes[-1].frame()[3]
+    fig.overlays.append(f'<path class="cursor" data-cursor="{ox:.3f} {kx:.5f}" '
+                        f'd="M{ox:.2f} {top:.2f} L{ox:.2f} {bottom:.2f}" stroke="#c0392b" '
+                        f'stroke-width="1" stroke-opacity="0.8" fill="none"/>')
 
 
 def has_dynamics(analysis: Analysis) -> bool:
@@ -103,7 +119,8 @@ def _motion_panels(analysis: Analysis, axes: list[Axes]) -> None:
         else:
             unit = units.unit(order, False)
         ax.plot(degrees, values, color=PITCH, linewidth=1.0)
-        ax.set_ylabel(f"{names[order]}\n({unit})", fontsize=8)
+        unit = unit.replace("^2", "²").replace("^3", "³")
+        ax.set_ylabel(f"{names[order]}\n({unit})", fontsize=LEGEND_FONT)
         ax.axhline(0.0, color=REFERENCE, linewidth=0.5)
 
 
@@ -112,10 +129,10 @@ def _pressure_panels(analysis: Analysis, top: Axes, bottom: Axes) -> None:
     analysis.result.pressure_panels(analysis, top, bottom)
     for sign in (1, -1):
         top.axhline(sign * limit, color=BAD, linewidth=0.8, linestyle="--")
-    top.set_ylabel("pressure angle\n(deg)", fontsize=8)
-    bottom.set_ylabel("radius of\ncurvature (mm)", fontsize=8)
+    top.set_ylabel("pressure angle\n(deg)", fontsize=LEGEND_FONT)
+    bottom.set_ylabel("radius of\ncurvature (mm)", fontsize=LEGEND_FONT)
     for ax in (top, bottom):
-        ax.legend(fontsize=7, loc="upper right")
+        ax.legend(fontsize=LEGEND_FONT, outside_right=True)
 
 
 def median(values: np.ndarray) -> float:
@@ -145,10 +162,10 @@ def _dynamics_panels(analysis: Analysis, top: Axes, bottom: Axes) -> None:
         top.fill_between(theta, force, 0, where=force < 0, color=BAD, alpha=0.4,
                          label="contact lost")
     bottom.plot(theta, torque, color=FOLLOWER, linewidth=1.0, label="camshaft torque")
-    top.set_ylabel("contact\nforce (N)", fontsize=8)
-    bottom.set_ylabel("torque (N·m)", fontsize=8)
+    top.set_ylabel("contact\nforce (N)", fontsize=LEGEND_FONT)
+    bottom.set_ylabel("torque (N·m)", fontsize=LEGEND_FONT)
     for ax in (top, bottom):
-        ax.legend(fontsize=7, loc="upper right")
+        ax.legend(fontsize=LEGEND_FONT, outside_right=True)
 
 
 def cam_drawing(analysis: Analysis) -> str | None:
@@ -169,3 +186,76 @@ def mark_failures(ax: Axes, analysis: Analysis, geom: DiscGeometry | LinearGeome
     if geom.undercut:
         cut = geom.working.xy[geom.cut] if geom.cut.any() else dense.working.xy[geom.folds]
         ax.plot(cut[:, 0], cut[:, 1], ".", color=BAD, markersize=2, label="undercut")
+
+
+#: The animation's steps are the motion table's rows, at least this far apart (rad).
+FRAME_STEP = math.radians(1.0)
+
+
+def frame_angles(table_step: float) -> np.ndarray:
+    """The cam angles (rad) of the report's animation: every motion-table row (*table_step*
+    apart), or every n-th where the table is finer than :data:`FRAME_STEP`."""
+    every = max(1, math.ceil(FRAME_STEP / table_step - 1e-9))
+    return cycle_angles(table_step)[::every]
+
+
+def group_points(ax: Axes, name: str) -> np.ndarray:
+    """(N, 2) points (data units) of the lines and fills of group *name* of *ax*."""
+    parts = [np.column_stack((i.x, i.y)) for i in ax.items
+             if i.group == name and i.kind in ("line", "fill")]
+    points = np.vstack(parts) if parts else np.zeros((0, 2))
+    return points[np.isfinite(points).all(axis=1)]
+
+
+def turned(points: np.ndarray, centre: np.ndarray, angles: np.ndarray) -> np.ndarray:
+    """*points* turned about *centre* by each of *angles* (rad, counter-clockwise), stacked."""
+    rel = points - centre
+    c, s = np.cos(angles)[:, None], np.sin(angles)[:, None]
+    x = c * rel[:, 0] - s * rel[:, 1]
+    y = s * rel[:, 0] + c * rel[:, 1]
+    return np.column_stack((x.ravel(), y.ravel())) + centre
+
+
+def rotations(angles: np.ndarray, centre: tuple[float, float]) -> list[str]:
+    """SVG transforms turning a group by *angles* (rad, counter-clockwise in the drawing)
+    about *centre* (pt): SVG's y runs down, so its rotation is the opposite."""
+    cx, cy = centre
+    return [f"rotate({-math.degrees(a) + 0.0:.4f} {cx:.3f} {cy:.3f})" for a in angles]
+
+
+def translations(dx: np.ndarray, dy: np.ndarray) -> list[str]:
+    """SVG transforms moving a group by (dx, dy) pt."""
+    return [f"translate({x + 0.0:.3f} {y + 0.0:.3f})" for x, y in zip(dx, dy, strict=True)]
+
+
+def scale_bar(ax: Axes, span: float, unit: str, scale: float = 1.0,
+              right: bool = False) -> None:
+    """A bar of a round length (about a fifth of *span*, data units = mm) in the lower left
+    (*right*: right) corner, labelled in the design's *unit* (*scale*: design units per mm)."""
+    from camfab.export.chart import nice_ticks
+
+    (x0, x1), (y0, y1) = ax.limits()
+    target = 0.2 * span * scale
+    steps = nice_ticks(0.0, target, 1)
+    length = float(steps[-1]) if steps.size > 1 and steps[-1] > 0 else target
+    mm = length / scale
+    left, bottom = x0 + 0.04 * (x1 - x0), y0 + 0.05 * (y1 - y0)
+    if right:
+        left = x1 - 0.04 * (x1 - x0) - mm
+    tick = 0.012 * (y1 - y0)
+    ax.plot([left, left, left + mm, left + mm], [bottom + tick, bottom, bottom, bottom + tick],
+            color="#000000", linewidth=1.5)
+    ax.text(left + mm / 2.0, bottom + 2.0 * tick, f"{length:g} {unit}", ha="center",
+            va="bottom", fontsize=LEGEND_FONT)
+
+
+
+def bands(ax: Axes, theta: np.ndarray, mask: np.ndarray, label: str) -> None:
+    """Coloured bands across *ax* over the cam angles (*theta*, rad) where *mask* holds."""
+    from camfab.angles import ranges_deg
+
+    for k, (a, b) in enumerate(ranges_deg(theta, mask)):
+        pieces = [(a, b)] if a <= b else [(a, 360.0), (0.0, b)]
+        for i, (start, end) in enumerate(pieces):
+            ax.axvspan(start, max(end, start + 0.5), color=BAD, alpha=0.22,
+                       label=label if k == 0 and i == 0 else None)

@@ -29,7 +29,9 @@ def num(value: float | None, digits: int = 5) -> str:
 
 
 def where(ranges: tuple[tuple[float, float], ...]) -> str:
-    return ", ".join(f"{a:.4g}–{b:.4g}" for a, b in ranges)
+    """Cam-angle ranges (deg); a point as one angle."""
+    return ", ".join(f"{a:.4g}" if f"{a:.4g}" == f"{b:.4g}" else f"{a:.4g}–{b:.4g}"
+                     for a, b in ranges)
 
 
 def _findings(analysis: Analysis) -> list[dict[str, Any]]:
@@ -37,7 +39,8 @@ def _findings(analysis: Analysis) -> list[dict[str, Any]]:
     for f in sorted(analysis.findings, key=lambda f: (f.ok, f.severity != "error")):
         row = "na" if not f.applicable else (
             "" if f.ok else ("fail" if f.severity == "error" else "warn"))
-        rows.append({"id": f.id, "severity": f.severity, "row": row, "mark": f.mark,
+        label = f.id if f.quantity is None else f"{f.id} ({f.quantity})"
+        rows.append({"id": label, "severity": f.severity, "row": row, "mark": f.mark,
                      "value": "" if f.value is None else f"{num(f.value)} {f.unit or ''}",
                      "limit": "" if f.limit is None else f"{num(f.limit)} {f.unit or ''}",
                      "where": where(f.ranges_deg), "message": f.message})
@@ -51,16 +54,21 @@ def _numbers(report: dict[str, Any]) -> list[tuple[str, str]]:
         for key, value in report[section].items():
             if value is None or isinstance(value, (list, dict)) or key == "note":
                 continue
-            label = key.replace("_", " ")
-            rows.append((label, num(value) if isinstance(value, float) else str(value)))
+            rows.append((column_label(key), show(value)))
     return rows
 
 
 def _segments(report: dict[str, Any]) -> tuple[list[str], list[list[str]]]:
     keys = [k for k in report["segments"][0] if k not in ("law_coefficients",)]
-    rows = [[num(seg[k]) if isinstance(seg[k], float) else str(seg[k]) for k in keys]
+    rows = [[_unbounded(k) if seg[k] is None else show(seg[k]) for k in keys]
             for seg in report["segments"]]
-    return [k.replace("_", " ") for k in keys], rows
+    return [column_label(k) for k in keys], rows
+
+
+def _unbounded(key: str) -> str:
+    """A value the JSON writes as null: a jerk is unbounded where the acceleration steps (the
+    continuity check says where); another is not computed."""
+    return "∞ (acceleration steps)" if "jerk" in key else "—"
 
 
 def _key_points(report: dict[str, Any]) -> tuple[list[str], list[list[str]]]:
@@ -78,11 +86,9 @@ def _verification(report: dict[str, Any]) -> list[tuple[str, str]]:
     rows = []
     for key, value in report["verification"].items():
         if isinstance(value, dict):
-            rows += [(f"STL {k.replace('_', ' ')}", num(v) if isinstance(v, float) else str(v))
-                     for k, v in value.items()]
+            rows += [(f"STL {column_label(k)}", show(v)) for k, v in value.items()]
         elif value is not None:
-            rows.append((key.replace("_", " "), num(value) if isinstance(value, float)
-                         else str(value)))
+            rows.append((column_label(key), show(value)))
     return rows
 
 
@@ -131,5 +137,104 @@ def render_report_html(analysis: Analysis) -> bytes:
         changes=result.contact_changes(report),
         diagrams=figures.diagrams(analysis),
         dynamics=figures.has_dynamics(analysis),
-        verification=_verification(report))
+        verification=_verification(report),
+        animation=animation_data(analysis), units=design.units,
+        inputs=_inputs(report["design"]),
+        lift_table=_lift_rows(report["lift_table"]))
     return page.encode("utf-8")
+
+
+def animation_data(analysis: Analysis) -> dict[str, Any]:
+    """The animation's readout: at each frame's cam angle (the motion table's rows, at least
+    1° apart: :func:`camfab.export.figures.frame_angles`), the cam angle, the lift, its
+    derivatives (at the design's speed, or per radian), the pressure angle, the radii of
+    curvature and the contact force where there are dynamics; labels with units, lengths in
+    the design's units."""
+    import numpy as np
+
+    from camfab.export.figures import frame_angles
+    from camfab.export.motion_csv import motion_table
+
+    design, units = analysis.design, analysis.units
+    columns, table = motion_table(analysis)
+    theta = frame_angles(design.table_step)
+    every = max(1, round(len(table) / len(theta)))
+    table = table[::every][: len(theta)]
+    labels, values = [], []
+    length = design.mm_per_unit
+    for k, name in enumerate(columns):
+        column = table[:, k]
+        label = column_label(name)
+        if name.endswith("_mm") and design.units == "in":
+            column, label = column / length, label.replace("(mm)", "(in)")
+        labels.append(label)
+        values.append(column)
+    if design.cam.omega is None:
+        motion = analysis.program.evaluate(theta)
+        for order in (1, 2, 3):
+            derivative = motion[order]
+            scale = 1.0 if units.oscillating else 1.0 / length
+            unit = units.unit(order, False).replace("mm", design.units)
+            labels.append(f"{('s′', 's″', 's‴')[order - 1]} ({unit})")
+            values.append(np.degrees(derivative) if units.oscillating else derivative * scale)
+    dyn = analysis.dynamics
+    if dyn is not None and dyn.force_N is not None:
+        labels.append("contact force (N)")
+        values.append(np.interp(theta, dyn.theta, dyn.force_N, period=2 * np.pi))
+    rows = np.column_stack(values)
+    return {"labels": labels, "sigma": design.cam.sigma,
+            "rows": [[None if not np.isfinite(v) else float(f"{v:.6g}") for v in row]
+                     for row in rows]}
+
+
+#: Units in the keys of camfab's tables, as written on the page.
+_UNITS = (("_m_s3", "m/s³"), ("_m_s2", "m/s²"), ("_m_s", "m/s"), ("_rad_s3", "rad/s³"),
+          ("_rad_s2", "rad/s²"), ("_rad_s", "rad/s"), ("_mm_per_rad3", "mm/rad³"),
+          ("_mm_per_rad2", "mm/rad²"), ("_mm_per_rad", "mm/rad"), ("_per_rad3", "/rad³"),
+          ("_per_rad2", "/rad²"), ("_per_rad", "/rad"), ("_mm3", "mm³"), ("_mm2", "mm²"),
+          ("_mm", "mm"), ("_deg", "°"), ("_rpm", "rpm"), ("_N_m", "N·m"), ("_N", "N"),
+          ("_kg", "kg"))
+
+
+def column_label(key: str) -> str:
+    """A table key as a label: ``max_acceleration_m_s2`` → ``max acceleration (m/s²)``."""
+    for suffix, unit in _UNITS:
+        if key.endswith(suffix):
+            return f"{key[: -len(suffix)].replace('_', ' ')} ({unit})"
+    return key.replace("_", " ")
+
+
+def _inputs(record: dict[str, Any], prefix: str = "") -> list[tuple[str, str]]:
+    """The design's every input as (key, value) rows, nested keys dotted."""
+    rows: list[tuple[str, str]] = []
+    for key, value in record.items():
+        name = f"{prefix}{key}"
+        if isinstance(value, dict):
+            rows += _inputs(value, f"{name}.")
+        elif isinstance(value, list) and value and isinstance(value[0], dict):
+            for i, item in enumerate(value):
+                rows += _inputs({k: v for k, v in item.items() if v is not None},
+                                f"{name}[{i}].")
+        elif value is not None:
+            rows.append((name, show(value)))
+    return rows
+
+
+def show(value: Any) -> str:
+    """A value on the page: numbers as :func:`num`, yes/no for booleans, lists joined."""
+    if isinstance(value, bool):
+        return "yes" if value else "no"
+    if isinstance(value, float):
+        return num(value)
+    if isinstance(value, list):
+        return ", ".join(show(v) for v in value)
+    return str(value)
+
+
+def _lift_rows(table: dict[str, Any]) -> dict[str, Any]:
+    """The lift table in six side-by-side blocks of rows (a page holds it)."""
+    rows = [[num(v) for v in row] for row in table["rows"]]
+    blocks = 6
+    depth = -(-len(rows) // blocks)
+    return {"unit": table["unit"], "step": num(table["step_deg"]), "depth": depth,
+            "blocks": [rows[i * depth:(i + 1) * depth] for i in range(blocks)]}

@@ -13,8 +13,11 @@ import json
 import math
 from typing import TYPE_CHECKING, Any
 
+import numpy as np
+
 from camfab import __version__
 from camfab.analysis.findings import count
+from camfab.export.design_record import design_record, follower_record
 
 if TYPE_CHECKING:
     from camfab.analysis.record import Analysis
@@ -24,7 +27,7 @@ if TYPE_CHECKING:
 def report_dict(analysis: Analysis) -> dict[str, Any]:
     """The report as plain data."""
     design = analysis.design
-    cam, fol = design.cam, design.follower
+    cam = design.cam
     units = analysis.units
     return {
         "camfab_version": __version__,
@@ -34,7 +37,8 @@ def report_dict(analysis: Analysis) -> dict[str, Any]:
         "units": design.units,
         "rotation": cam.rotation,
         "speed_rpm": cam.speed_rpm,
-        "follower": {"type": fol.type, "motion": fol.motion},
+        "design": design_record(design),
+        "follower": follower_record(design),
         "geometry": analysis.result.report_geometry(analysis),
         "sizing": sizing_dict(design),
         "motion": {
@@ -43,6 +47,7 @@ def report_dict(analysis: Analysis) -> dict[str, Any]:
             **analysis.result.report_motion(analysis),
         },
         "segments": [_segment(s, analysis) for s in analysis.segments],
+        "lift_table": lift_table(analysis),
         "checks": [f.to_json() for f in analysis.findings],
         "dynamics": _dynamics(analysis),
         "verification": _verification(analysis),
@@ -67,6 +72,28 @@ def sizing_dict(design: Design) -> dict[str, Any] | None:
             "governed_by": sized.governed_by, "governing_limit": sized.what,
             "value": sized.value, "limit": sized.limit, "unit": sized.unit,
             "at_deg": sized.at_deg, "round_to_mm": sized.rounded_to}
+
+
+def lift_table(analysis: Analysis) -> dict[str, Any]:
+    """The lift at every ``table_step`` of cam angle, for inspection with a dial gauge on the
+    follower, and the band an inspector holds it to: the export tolerance met along the
+    profile's normal moves the follower by tolerance / cos φ (an oscillating arm by that over
+    its length, in degrees)."""
+    from camfab.export.motion_csv import motion_table
+
+    design, units = analysis.design, analysis.units
+    columns, table = motion_table(analysis)
+    theta, lift = table[:, 0], table[:, columns.index(units.displacement_column)]
+    phi = (table[:, columns.index("pressure_angle_deg")] if "pressure_angle_deg" in columns
+           else np.zeros(theta.size))
+    cosine = np.maximum(np.cos(np.radians(np.nan_to_num(phi))), 0.01)
+    band = design.manufacturing.tolerance / cosine
+    unit = "deg" if units.oscillating else "mm"
+    if units.oscillating:
+        band = np.degrees(band / (design.follower.arm_length or 1.0))
+    return {"step_deg": math.degrees(design.table_step), "unit": unit,
+            "columns": ["cam_angle_deg", f"lift_{unit}", f"tolerance_{unit}"],
+            "rows": np.column_stack((theta, lift, band)).round(6).tolist()}
 
 
 def _dynamics(analysis: Analysis) -> dict[str, Any]:

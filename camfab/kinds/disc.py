@@ -95,7 +95,8 @@ class PlateResult(CamResult):
     def pressure_panels(self, analysis: Analysis, top: Any, bottom: Any) -> None:
         from camfab.kinds.plate_figures import plate_pressure_panels
 
-        plate_pressure_panels(self.geometry, top, bottom)
+        plate_pressure_panels(self.geometry, top, bottom,
+                              analysis.design.pressure_angle_limit)
 
     def drawing(self, analysis: Analysis) -> str:
         from camfab.kinds.plate_figures import plate_drawing_svg

@@ -40,7 +40,7 @@ class DrumResult(CamResult):
 
     drum: DrumDense
     numbers: DrumNumbers
-    drawing_title = "The groove developed"
+    drawing_title = "The groove developed, the roller running in it"
 
     def kind_name(self, design: Design) -> str:
         return "drum cam"
@@ -106,26 +106,52 @@ class DrumResult(CamResult):
 
 
 def _drawing_svg(analysis: Analysis, dense: DrumDense) -> str:
+    """The groove developed at the drum's surface, seen from outside, with the roller in it and
+    a scale bar; the roller (group ``follower``) carries the animation's frames: it runs along
+    the groove as the drum turns and the follower moves."""
     from camfab.export.chart import Figure
-    from camfab.export.figures import CUT, PITCH, REFERENCE
+    from camfab.export.figures import (
+        CUT,
+        FOLLOWER,
+        LEGEND_FONT,
+        PITCH,
+        REFERENCE,
+        frame_angles,
+        scale_bar,
+        translations,
+    )
     from camfab.geometry.drum_mesh import development
 
     d = dense.drum
+    design = analysis.design
     dev = development(d, analysis.program, 0.01)
-    fig = Figure(9.0, 3.6, "drawing", bottom=0.14)
+    fig = Figure(9.0, 4.4, "drawing", left=0.08, right=0.76, bottom=0.14, top=0.9)
     [ax] = fig.subplots()
     ax.set_aspect("equal")
     ax.plot([0, dev.width, dev.width, 0, 0], [0, 0, dev.height, dev.height, 0],
-            color=REFERENCE, linewidth=0.7)
+            color=REFERENCE, linewidth=0.7, label="the drum's surface")
     ax.plot(dev.lower[:, 0], dev.lower[:, 1], color=CUT, linewidth=1.2, label="groove walls")
     ax.plot(dev.upper[:, 0], dev.upper[:, 1], color=CUT, linewidth=1.2)
     ax.plot(dev.centre[:, 0], dev.centre[:, 1], color=PITCH, linewidth=0.8, linestyle="--",
             label="roller axis")
-    ax.set_title(f"{analysis.design.name}: groove developed at the surface (r = {d.radius:.4g}"
-                 " mm), seen from outside", fontsize=9)
+    start = dev.centre[0]
+    angle = np.linspace(0, 2 * math.pi, 181)
+    radius = design.follower.roller_radius or 0.0
+    with ax.group("follower"):
+        ax.plot(start[0] + radius * np.cos(angle), start[1] + radius * np.sin(angle),
+                color=FOLLOWER, linewidth=1.5, label="roller")
+        ax.plot([start[0]], [start[1]], ".", color=FOLLOWER)
+    scale_bar(ax, dev.width, design.units, 1.0 / design.mm_per_unit)
+    theta = frame_angles(design.table_step)
+    s = analysis.program.evaluate(theta)[0]
+    _, _, kx, ky = ax.to_frame()
+    ax.animate("follower", translations(kx * d.radius * (-d.sigma * theta),
+                                        -ky * (s - s[0])))
+    ax.set_title(f"{design.name}: groove developed at the surface (r = {d.radius:.4g}"
+                 " mm), seen from outside", fontsize=10)
     ax.set_xlabel("around the drum (mm)")
     ax.set_ylabel("z (mm)")
-    ax.legend(fontsize=7, loc="upper right")
+    ax.legend(fontsize=LEGEND_FONT, outside_right=True)
     return fig.svg()
 
 

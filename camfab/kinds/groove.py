@@ -341,7 +341,7 @@ def _draw_groove(ax: Any, analysis: Analysis, walls: GrooveWalls) -> None:
         label = (f"{walls.contact.changes_deg[k]:.4g}°: onto the "
                  f"{WALL_NAMES[int(walls.contact.onto[k])]} wall")
         tip = centre - 2.0 * step * np.sign(float(np.dot(step, centre)) or 1.0)  # toward the centre
-        ax.text(float(tip[0]), float(tip[1]), label, fontsize=7, color=CHANGE)
+        ax.text(float(tip[0]), float(tip[1]), label, fontsize=8.5, color=CHANGE)
 
 
 

@@ -162,7 +162,7 @@ class LinearResult(CamResult):
 
     linear: LinearGeometry
     numbers: LinearNumbers
-    drawing_title = "The plate at travel 0"
+    drawing_title = "The plate sliding under its follower"
 
     def motion_words(self, design: Design) -> str:
         return "moving toward −X"
@@ -201,45 +201,68 @@ class LinearResult(CamResult):
 
 def _drawing_svg(analysis: Analysis, geom: LinearGeometry) -> str:
     """The plate at travel 0 with its follower over x = 0, the pitch curve, the zero-lift lines,
-    and where the checks fail marked on the profile."""
+    where the checks fail marked on the profile, and a scale bar; the plate (group ``cam``) and
+    the follower (group ``follower``) carry the animation's frames: the plate slides toward −X
+    by its travel, the follower rises and falls as the motion table says."""
     from camfab.export.chart import Figure
-    from camfab.export.figures import CUT, FOLLOWER, PITCH, REFERENCE, mark_failures
+    from camfab.export.figures import (
+        CUT,
+        FOLLOWER,
+        LEGEND_FONT,
+        PITCH,
+        REFERENCE,
+        frame_angles,
+        mark_failures,
+        scale_bar,
+        translations,
+    )
 
     cam = geom.cam
+    design = analysis.design
     outline = geom.outline_points()
     width = geom.plate_length
     height = float(outline[:, 1].max()) + 2.5 * cam.radius + 0.25 * cam.base_height
-    size = min(10.0, max(6.0, 0.04 * width))
-    fig = Figure(size, max(2.6, size * (height + 0.3 * cam.base_height) / width * 1.15),
-                 "drawing", left=0.07, right=0.98, bottom=0.2, top=0.88)
+    size = 9.0
+    fig = Figure(size, max(3.0, 0.7 * size * (height + 0.3 * cam.base_height) / width * 1.15),
+                 "drawing", left=0.07, right=0.72, bottom=0.2, top=0.88)
     [ax] = fig.subplots()
     ax.set_aspect("equal")
-    ring = np.vstack((outline, outline[:1]))
-    ax.fill(ring[:, 0], ring[:, 1], color="#f4d6d2", zorder=0)
-    ax.plot(ring[:, 0], ring[:, 1], color=CUT, linewidth=1.2, label="plate outline")
-    if cam.radius > 0.0:
-        ax.plot(geom.pitch.xy[:, 0], geom.pitch.xy[:, 1], color=PITCH, linewidth=0.8,
-                linestyle="--", label="pitch curve")
+    with ax.group("cam"):
+        ring = np.vstack((outline, outline[:1]))
+        ax.fill(ring[:, 0], ring[:, 1], color="#f4d6d2", zorder=0)
+        ax.plot(ring[:, 0], ring[:, 1], color=CUT, linewidth=1.2, label="plate outline")
+        if cam.radius > 0.0:
+            ax.plot(geom.pitch.xy[:, 0], geom.pitch.xy[:, 1], color=PITCH, linewidth=0.8,
+                    linestyle="--", label="pitch curve")
+        mark_failures(ax, analysis, geom)
     left, right = -cam.overhang, cam.stroke + cam.overhang
     ax.plot([left, right], [cam.base_height] * 2, color=REFERENCE, linewidth=0.7,
             linestyle="-.", label="trace point at zero lift")
-    mark_failures(ax, analysis, geom)
     trace = cam.base_height + float(analysis.program.evaluate(np.zeros(1))[0, 0])
-    if cam.radius > 0.0:
-        angle = np.linspace(0.0, 2.0 * np.pi, 181)
-        ax.plot(cam.radius * np.cos(angle), trace + cam.radius * np.sin(angle), color=FOLLOWER,
-                linewidth=1.5, label="follower at travel 0")
     stem = trace + cam.radius + 0.6 * cam.base_height
-    ax.plot([0.0, 0.0], [trace, stem], color=FOLLOWER, linewidth=1.5,
-            label=None if cam.radius > 0.0 else "knife at travel 0")
-    ax.plot([0.0], [trace], ".", color=FOLLOWER)
+    with ax.group("follower"):
+        if cam.radius > 0.0:
+            angle = np.linspace(0.0, 2.0 * np.pi, 181)
+            ax.plot(cam.radius * np.cos(angle), trace + cam.radius * np.sin(angle),
+                    color=FOLLOWER, linewidth=1.5, label="follower")
+        ax.plot([0.0, 0.0], [trace, stem], color=FOLLOWER, linewidth=1.5,
+                label=None if cam.radius > 0.0 else "knife")
+        ax.plot([0.0], [trace], ".", color=FOLLOWER)
     ax.arrow((0.4 * width - cam.overhang, -0.12 * cam.base_height),
              (0.2 * width - cam.overhang, -0.12 * cam.base_height), color=REFERENCE)
     ax.text(0.3 * width - cam.overhang, -0.2 * cam.base_height, "the plate moves toward −X",
-            ha="center", va="top", fontsize=7, color="#555555")
-    ax.set_ylim(-0.45 * cam.base_height, height)
-    ax.legend(fontsize=7, loc="upper right", ncol=2)
-    ax.set_title(f"{analysis.design.name} at travel 0 (stroke {cam.stroke:.4g} mm)", fontsize=9)
+            ha="center", va="top", fontsize=LEGEND_FONT, color="#555555")
+    theta = frame_angles(design.table_step)
+    s = analysis.program.evaluate(theta)[0]
+    ax.include([0.0, 0.0], [stem + float(s.max() - s[0]), trace])
+    ax.set_ylim(-0.45 * cam.base_height, max(height, stem + float(s.max() - s[0]) + 1.0))
+    scale_bar(ax, width, design.units, 1.0 / design.mm_per_unit, right=True)
+    _, _, kx, ky = ax.to_frame()
+    travel = cam.stroke * theta / (2.0 * np.pi)
+    ax.animate("cam", translations(-kx * travel, np.zeros(theta.size)))
+    ax.animate("follower", translations(np.zeros(theta.size), -ky * (s - s[0])))
+    ax.legend(fontsize=LEGEND_FONT, outside_right=True)
+    ax.set_title(f"{design.name} at travel 0 (stroke {cam.stroke:.4g} mm)", fontsize=10)
     ax.set_xlabel("x (mm)")
     ax.set_ylabel("y (mm)")
     return fig.svg()

@@ -201,8 +201,9 @@ class ConjugateResult(PairResult):
         other = move(cam_b.trace(partner.program.evaluate(np.zeros(1)))[0][0])
         ring = move(partner.geometry.outline_points())
         ring = np.vstack((ring, ring[:1]))
-        ax.plot(ring[:, 0], ring[:, 1], color=CUT, linewidth=1.0, linestyle="--",
-                label="cam b (behind cam a)")
+        with ax.group("cam"):  # on the same shaft: it turns with cam a
+            ax.plot(ring[:, 0], ring[:, 1], color=CUT, linewidth=1.0, linestyle="--",
+                    label="cam b (behind cam a)")
         _draw_second(ax, analysis, other, _trace(analysis))
 
 

@@ -14,11 +14,19 @@ from camfab.export.figures import (
     BAD,
     CUT,
     FOLLOWER,
+    LEGEND_FONT,
     PITCH,
     REFERENCE,
+    bands,
     clip_radii,
+    frame_angles,
+    group_points,
     mark_failures,
+    rotations,
+    scale_bar,
     thin,
+    translations,
+    turned,
 )
 
 if TYPE_CHECKING:
@@ -27,15 +35,29 @@ if TYPE_CHECKING:
     from camfab.kinds.disc import PlateResult
 
 
-def plate_pressure_panels(geom: DiscGeometry, top: Axes, bottom: Axes) -> None:
-    """The pressure angle on *top*; the pitch curve's and the profile's radii of curvature
-    against the follower's radius on *bottom*."""
+def plate_pressure_panels(geom: DiscGeometry, top: Axes, bottom: Axes, limit: float) -> None:
+    """The pressure angle on *top* (bands where it is over the *limit*, rad); the pitch
+    curve's and the profile's radii of curvature against the follower's radius on *bottom*
+    (bands where the envelope is undercut). A flat face's pitch point follows no curve of the
+    cam: its radius is not drawn."""
     theta, phi, pitch, profile = thin(np.degrees(geom.dense.theta),
                                       np.degrees(geom.dense.pressure_angle),
                                       geom.dense.pitch.radius, geom.dense.working.radius)
-    top.plot(theta, phi, color=PITCH, linewidth=1.0, label="pressure angle φ")
-    bottom.plot(theta, clip_radii(pitch), color=PITCH, linewidth=1.0, label="pitch curve ρ")
+    fol = geom.cam.follower
+    if fol.flat and not fol.oscillating:
+        top.text(180.0, 0.5, "a flat face square to its motion: no pressure angle (φ = 0)",
+                 fontsize=LEGEND_FONT, color="#555555", y_in_axes=True)
+        top.set_ylim(-45.0, 45.0)
+    else:
+        top.plot(theta, phi, color=PITCH, linewidth=1.0, label="pressure angle φ")
+    if not fol.flat:  # a flat face's pitch point is no curve its contact follows
+        bottom.plot(theta, clip_radii(pitch), color=PITCH, linewidth=1.0, label="pitch curve ρ")
     bottom.plot(theta, clip_radii(profile), color=CUT, linewidth=1.0, label="profile ρ")
+    dense = geom.dense
+    bands(bottom, dense.theta, geom.folds, "undercut")
+    steep = np.abs(dense.pressure_angle) > limit
+    if fol.oscillating or not fol.flat:
+        bands(top, dense.theta, steep, "over the limit")
     radius = geom.cam.follower.radius
     if radius > 0:
         bottom.axhline(radius, color=BAD, linewidth=0.8, linestyle="--",
@@ -43,34 +65,89 @@ def plate_pressure_panels(geom: DiscGeometry, top: Axes, bottom: Axes) -> None:
 
 
 def plate_drawing_svg(result: PlateResult, analysis: Analysis) -> str:
-    """The plate at θ = 0: its outline (or a groove's walls), the pitch curve, the base and
-    prime circles, where the checks fail, the follower and what holds it on its other side."""
+    """The plate at θ = 0: its outline (or a groove's walls) with the bore and keyway, the
+    pitch curve, the base and prime circles, where the checks fail, the follower and what holds
+    it on its other side, a scale bar; the plate (group ``cam``) and the follower (group
+    ``follower``) carry the animation's frames: the plate turning about its centre, the
+    follower moving as the motion table says."""
     geom = result.geometry
-    fol = geom.cam.follower
-    fig = Figure(6.4, 6.4, "drawing", left=0.12, bottom=0.08)
+    cam = geom.cam
+    fol = cam.follower
+    design = analysis.design
+    fig = Figure(9.0, 6.6, "drawing", left=0.09, right=0.66, bottom=0.08, top=0.94)
     [ax] = fig.subplots()
     ax.set_aspect("equal")
-    result.draw_plate(ax, analysis)
-    pitch = np.vstack((geom.pitch.xy, geom.pitch.xy[:1]))
-    if fol.radius > 0:
-        ax.plot(pitch[:, 0], pitch[:, 1], color=PITCH, linewidth=0.8, linestyle="--",
-                label="pitch curve")
+    with ax.group("cam"):
+        result.draw_plate(ax, analysis)
+        draw_holes(ax, analysis)
+        pitch = np.vstack((geom.pitch.xy, geom.pitch.xy[:1]))
+        if fol.radius > 0:
+            ax.plot(pitch[:, 0], pitch[:, 1], color=PITCH, linewidth=0.8, linestyle="--",
+                    label="pitch curve")
+        # where the checks fail, on the profile
+        mark_failures(ax, analysis, geom)
+        ax.plot([0.0, 0.0], [0.0, 0.35 * cam.base_radius], color="#555555", linewidth=0.8,
+                label="θ = 0 mark")
     angle = np.linspace(0, 2 * math.pi, 361)
-    for radius, style, name in ((geom.cam.base_radius, ":", "base circle"),
-                                (geom.cam.prime_radius, "-.", "prime circle")):
+    for radius, style, name in ((cam.base_radius, ":", "base circle"),
+                                (cam.prime_radius, "-.", "prime circle")):
         ax.plot(radius * np.cos(angle), radius * np.sin(angle), color=REFERENCE,
                 linewidth=0.7, linestyle=style, label=name)
-    # where the checks fail, on the profile
-    mark_failures(ax, analysis, geom)
-    draw_follower(ax, analysis, geom)
-    result.draw_other_side(ax, analysis)
+    with ax.group("follower"):
+        draw_follower(ax, analysis, geom)
+        result.draw_other_side(ax, analysis)
     ax.plot([0], [0], "+", color="black", markersize=10)
-    ax.legend(fontsize=7, loc="lower left")
-    ax.set_title(f"{analysis.design.name} at θ = 0 ({analysis.design.cam.rotation})",
-                 fontsize=9)
+    # the animation: the plate turns about the centre, the follower moves with the motion
+    theta = frame_angles(design.table_step)
+    trace = cam.trace(analysis.program.evaluate(theta))[0]
+    plate = group_points(ax, "cam")
+    reach = float(np.max(np.hypot(plate[:, 0], plate[:, 1]))) if plate.size else 1.0
+    ax.include(reach * np.cos(angle), reach * np.sin(angle))
+    moving = group_points(ax, "follower")
+    if fol.oscillating:
+        pivot = cam.pivot
+        swing = _arm_angles(trace, pivot)
+        ax.include(*turned(moving, pivot, swing[[int(np.argmin(swing)),
+                                                 int(np.argmax(swing))]]).T)
+    else:
+        rise = trace[:, 1] - trace[0, 1]
+        for shift in (rise.min(), rise.max()):
+            ax.include(moving[:, 0], moving[:, 1] + shift)
+    scale_bar(ax, 2.0 * reach, design.units, 1.0 / design.mm_per_unit)
+    ox, oy, kx, ky = ax.to_frame()
+    ax.animate("cam", rotations(cam.sigma * theta, (ox, oy)))
+    if fol.oscillating:
+        pivot = cam.pivot
+        ax.animate("follower", rotations(_arm_angles(trace, pivot),
+                                         (ox + kx * pivot[0], oy - ky * pivot[1])))
+    else:
+        ax.animate("follower", translations(np.zeros(theta.size),
+                                            -ky * (trace[:, 1] - trace[0, 1])))
+    ax.legend(fontsize=LEGEND_FONT, outside_right=True)
+    ax.set_title(f"{design.name} at θ = 0 ({design.cam.rotation})", fontsize=10)
     ax.set_xlabel("x (mm)")
     ax.set_ylabel("y (mm)")
     return fig.svg()
+
+
+def _arm_angles(trace: np.ndarray, pivot: np.ndarray) -> np.ndarray:
+    """How far the arm from *pivot* to each *trace* point has turned from the first (rad,
+    counter-clockwise)."""
+    arm = np.arctan2(trace[:, 1] - pivot[1], trace[:, 0] - pivot[0])
+    return np.unwrap(arm - arm[0])
+
+
+def draw_holes(ax: Axes, analysis: Analysis) -> None:
+    """The bore and keyway, as cut."""
+    from camfab.export.stl import hole_points
+    from camfab.geometry.plate import holes
+
+    tolerance = analysis.design.manufacturing.tolerance
+    for k, chain in enumerate(hole_points(holes(analysis.design), max(tolerance, 0.01))):
+        ring = np.vstack((chain, chain[:1]))
+        ax.fill(ring[:, 0], ring[:, 1], color="#ffffff", zorder=0.5)
+        ax.plot(ring[:, 0], ring[:, 1], color=CUT, linewidth=1.0,
+                label="bore and keyway" if k == 0 else None)
 
 
 def draw_outline(ax: Axes, geom: DiscGeometry) -> None:

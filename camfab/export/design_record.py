@@ -1,0 +1,100 @@
+"""Every input of a design, as the report records it: each key of the design model (defaults
+included) in the design's units — lengths in its ``units``, angles and oscillating lifts in
+degrees, the other quantities in the units their keys state (rpm, kg, N, N/mm, N·s/m) —
+and a follower block of every follower dimension in millimetres and degrees."""
+
+from __future__ import annotations
+
+import math
+import typing
+from typing import TYPE_CHECKING, Any
+
+from pydantic import BaseModel, BeforeValidator
+
+from camfab.design import units as U
+
+if TYPE_CHECKING:
+    from camfab.design import Design
+
+#: Keys of the model that are not inputs of the design file.
+_NOT_INPUTS = ("source", "sized")
+
+#: The boundary conditions' keys: derivatives of the lift per radian^n of cam angle.
+_RATES = {"velocity": 1, "acceleration": 2, "jerk": 3}
+
+
+def _kind(model: type[BaseModel], name: str) -> Any:
+    """The unit kind of field *name* (a :class:`~camfab.design.units.Kind`, ``"lift"``) or
+    None, from its converter."""
+    field = model.model_fields[name]
+    found: list[Any] = list(field.metadata)
+    pending = [field.annotation]
+    while pending:
+        annotation = pending.pop()
+        if typing.get_origin(annotation) is typing.Annotated:
+            found += list(annotation.__metadata__)
+        pending += list(typing.get_args(annotation))
+    for item in found:
+        if isinstance(item, BeforeValidator):
+            kind = getattr(item.func, "kind", None)
+            if kind is not None:
+                return kind
+    return None
+
+
+def _value(value: Any, kind: Any, design: Design) -> Any:
+    """An internal value of *kind* in the design's units."""
+    if value is None or kind is None or isinstance(value, str):
+        return value
+    if kind == "lift":
+        kind = U.ANGLE if design.follower.oscillating else U.LENGTH
+    if kind is U.LENGTH:
+        return value / design.mm_per_unit
+    if kind is U.ANGLE:
+        return math.degrees(value)
+    return value
+
+
+def _model(model: BaseModel, design: Design) -> dict[str, Any]:
+    out: dict[str, Any] = {}
+    for name in type(model).model_fields:
+        if name in _NOT_INPUTS:
+            continue
+        value = getattr(model, name)
+        if isinstance(value, BaseModel):
+            out[name] = _model(value, design)
+        elif isinstance(value, tuple) and value and isinstance(value[0], BaseModel):
+            out[name] = [_model(item, design) for item in value]
+        elif name == "points" and value is not None:
+            lift = U.ANGLE if design.follower.oscillating else U.LENGTH
+            out[name] = [[math.degrees(a), _value(s, lift, design)] for a, s in value]
+        elif name in _RATES and isinstance(value, float):
+            # per radian^n of cam angle: a length in the design's units, or an angle in rad
+            out[name] = value if design.follower.oscillating else value / design.mm_per_unit
+        elif isinstance(value, tuple):
+            out[name] = list(value)
+        else:
+            out[name] = _value(value, _kind(type(model), name), design)
+    return out
+
+
+def design_record(design: Design) -> dict[str, Any]:
+    """Every key of *design* as the design file takes it, in the design's units."""
+    return _model(design, design)
+
+
+def follower_record(design: Design) -> dict[str, Any]:
+    """The follower: its type and motion, and every dimension (``_mm``, ``_deg``, ``_kg``)."""
+    fol = design.follower
+    out: dict[str, Any] = {"type": fol.type, "motion": fol.motion}
+    for name in type(fol).model_fields:
+        if name in ("type", "motion"):
+            continue
+        value = getattr(fol, name)
+        kind = _kind(type(fol), name)
+        suffix = {U.LENGTH: "_mm", U.ANGLE: "_deg", U.MASS: "_kg"}.get(kind, "")
+        if kind is U.ANGLE and value is not None:
+            value = math.degrees(value)
+        out[f"{name}{suffix}"] = value
+    out["trace_radius_mm"] = fol.trace_radius
+    return out

@@ -1,0 +1,308 @@
+"""The report's page driven in Debian's Chromium through Selenium (chromium-driver; nothing
+downloads a browser): for one design of every cam kind the slider is moved to several cam
+angles, and the follower's drawn position, the cam's turn and the readout are held to the
+motion table and to the follower's geometry (SPEC §2, computed here from the report's numbers);
+the page raises no script error and draws something; no legend box covers a plotted curve (from
+the SVG's geometry); printed to PDF, no page ends on a heading. The JSON report carries every
+input of the design (the design model's fields walked)."""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import re
+import shutil
+import subprocess
+import xml.etree.ElementTree as ET
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+from pydantic import BaseModel
+
+from camfab.design import Design
+from camfab.pipeline import analyse, load_design, render
+
+from .conftest import DESIGN_FILES, DESIGNS
+
+REQUIRED = bool(os.environ.get("CAMFAB_REQUIRE_CONSUMERS"))
+
+#: One design of every cam kind (and of every follower of a disc cam).
+KINDS = ["seed-10-4", "seed-10-3-oscillating", "demo-oscillating-flat", "demo-inch-flat",
+         "demo-mushroom-cw", "demo-cylindrical", "seed-7-10-circular-arc", "demo-tangent-roller",
+         "demo-groove-roller", "demo-conjugate", "demo-conjugate-oscillating",
+         "demo-constant-breadth", "demo-linear-roller"]
+
+#: Frames the slider is moved to.
+FRAMES = (0, 37, 90, 181, 270, 359)
+
+
+def _tool(name: str, package: str) -> str:
+    path = shutil.which(name)
+    if path is None:
+        if REQUIRED:
+            pytest.fail(f"{name} is not installed")
+        pytest.skip(f"{name} is not installed (apt-get install {package})")
+    return path
+
+
+@pytest.fixture(scope="module")
+def browser() -> Any:
+    webdriver = pytest.importorskip("selenium.webdriver")
+    from selenium.webdriver.chrome.service import Service
+
+    driver_path = _tool("chromedriver", "chromium-driver")
+    options = webdriver.ChromeOptions()
+    for flag in ("--headless=new", "--no-sandbox", "--disable-gpu", "--window-size=1280,1000",
+                 "--disable-background-networking", "--no-first-run"):
+        options.add_argument(flag)
+    options.binary_location = _tool("chromium", "chromium")
+    driver = webdriver.Chrome(service=Service(driver_path), options=options)
+    yield driver
+    driver.quit()
+
+
+def _page(name: str, folder: Path) -> tuple[Path, dict[str, Any], str]:
+    design = load_design(DESIGNS / f"{name}.yaml")
+    files = render(analyse(design)).files
+    page = folder / f"{name}-report.html"
+    page.write_bytes(files[page.name])
+    report = json.loads(files[f"{name}-report.json"])
+    csv = files[f"{name}-motion.csv"].decode()
+    return page, report, csv
+
+
+def _frame(browser: Any, index: int) -> None:
+    browser.execute_script(
+        "var s = document.getElementById('angle'); s.value = arguments[0];"
+        "s.dispatchEvent(new Event('input'));", index)
+
+
+def _matrix(browser: Any, element_id: str) -> tuple[list[float], list[float]]:
+    """The group's transform as the browser reads it (a, b, c, d, e, f), and its data map."""
+    return browser.execute_script(
+        "var g = document.getElementById(arguments[0]);"
+        "var t = g.transform.baseVal.consolidate();"
+        "var m = t ? t.matrix : {a: 1, b: 0, c: 0, d: 1, e: 0, f: 0};"
+        "return [[m.a, m.b, m.c, m.d, m.e, m.f], g.getAttribute('data-map').split(' ')"
+        ".map(Number)];", element_id)
+
+
+def _moved(point: tuple[float, float], matrix: list[float], mapping: list[float]) -> np.ndarray:
+    """A drawing point (mm) moved by the group's transform, back in mm."""
+    a, b, c, d, e, f = matrix
+    ox, oy, kx, ky = mapping
+    px, py = ox + kx * point[0], oy - ky * point[1]
+    qx, qy = a * px + c * py + e, b * px + d * py + f
+    return np.array([(qx - ox) / kx, (oy - qy) / ky])
+
+
+def _expected(report: dict[str, Any], theta_deg: float, lift: float, lift0: float) -> tuple[
+        np.ndarray, np.ndarray]:
+    """Where the follower's trace point is at θ and at 0 (mm), from the report's numbers and
+    SPEC §2 (independent of the drawing's code)."""
+    geometry, follower, cam = report["geometry"], report["follower"], report["design"]["cam"]
+    if report["cam_type"] == "cylindrical":
+        sigma = 1 if report["rotation"] == "ccw" else -1
+        radius, start = geometry["radius_mm"], geometry["groove_start_mm"]
+        shift = 2 * math.pi if sigma > 0 else 0.0
+
+        def at(t: float, s: float) -> np.ndarray:
+            return np.array([radius * (shift - sigma * math.radians(t)), start + s])
+
+        return at(theta_deg, lift), at(0.0, lift0)
+    if report["cam_type"] == "linear":
+        base = cam["base_height"] * (25.4 if report["units"] == "in" else 1.0)
+        return np.array([0.0, base + lift]), np.array([0.0, base + lift0])
+    if follower["motion"] == "oscillating":
+        a, arm = follower["pivot_distance_mm"], follower["arm_length_mm"]
+        side = 1 if follower["pivot_side"] == "right" else -1
+        rest = math.radians(geometry["rest_arm_angle_deg"])
+
+        def swing(s_deg: float) -> np.ndarray:
+            psi = rest + math.radians(s_deg)
+            return np.array([side * (a - arm * math.cos(psi)), arm * math.sin(psi)])
+
+        return swing(lift), swing(lift0)
+    e = follower["offset_mm"]
+    if follower["type"] == "flat":
+        y0 = geometry["base_radius_mm"]
+    else:
+        y0 = math.sqrt(geometry["prime_radius_mm"] ** 2 - e * e)
+    return np.array([e, y0 + lift]), np.array([e, y0 + lift0])
+
+
+@pytest.mark.parametrize("name", KINDS)
+def test_the_slider_moves_the_follower_the_cam_and_the_readout_as_the_motion_table_says(
+        browser: Any, tmp_path: Path, name: str) -> None:
+    page, report, csv = _page(name, tmp_path)
+    rows = [[float(v) if v else math.nan for v in line.split(",")]
+            for line in csv.strip().splitlines()[1:]]
+    table = report["lift_table"]["rows"]
+    browser.get(page.as_uri())
+    assert browser.execute_script("return document.body.dataset.ready") == "yes"
+    sigma = 1 if report["rotation"] == "ccw" else -1
+    oscillating = report["follower"]["motion"] == "oscillating"
+    lift_column = 2 if report["cam_type"] == "linear" else 1
+    frames = int(browser.execute_script("return +document.getElementById('angle').max")) + 1
+    assert frames == len(table)  # 1° steps: every row of the motion table
+    lift0 = rows[0][lift_column]
+    for index in FRAMES:
+        _frame(browser, index)
+        theta = rows[index][0]
+        lift = rows[index][lift_column]
+        readout = browser.execute_script(
+            "return Array.prototype.map.call(document.querySelectorAll('#readout td'),"
+            "function (td) { return td.textContent; });")
+        assert float(readout[0]) == pytest.approx(theta)
+        shown = lift / (25.4 if report["units"] == "in" and not oscillating else 1.0)
+        assert float(readout[lift_column]) == pytest.approx(shown, rel=1e-5, abs=1e-5)
+        assert table[index][1] == pytest.approx(lift, abs=2e-6)
+        matrix, mapping = _matrix(browser, "drawing-follower")
+        want, start = _expected(report, theta, lift, lift0)
+        drawn = _moved(tuple(start), matrix, mapping)
+        resolution = 0.25 / mapping[2]  # a quarter of a point of the drawing, in mm
+        assert np.allclose(drawn, want, atol=max(resolution, 1e-3)), (index, drawn, want)
+        if report["cam_type"] not in ("cylindrical",):
+            matrix, mapping = _matrix(browser, "drawing-cam")
+            if report["cam_type"] == "linear":
+                stroke = report["design"]["cam"]["stroke"] * (
+                    25.4 if report["units"] == "in" else 1.0)
+                assert matrix[4] / mapping[2] == pytest.approx(-stroke * theta / 360.0,
+                                                               abs=1e-3)
+            else:  # the plate turns σθ about its centre (SVG's y runs down)
+                turned = math.degrees(math.atan2(-matrix[1], matrix[0]))
+                assert (turned - sigma * theta + 180.0) % 360.0 - 180.0 == pytest.approx(
+                    0.0, abs=1e-3)
+    # the cursor stands at the last frame's cam angle on the diagrams
+    shift = browser.execute_script(
+        "var c = document.querySelector('[data-cursor]');"
+        "return [c.transform.baseVal.consolidate().matrix.e, +c.getAttribute('data-cursor')"
+        ".split(' ')[1]];")
+    assert shift[0] == pytest.approx(shift[1] * rows[FRAMES[-1]][0], abs=0.01)
+    assert browser.execute_script("return document.body.dataset.errors") == "0"
+    logs = [e for e in browser.get_log("browser") if e["level"] == "SEVERE"]
+    assert not logs, logs
+    # the drawing is drawn: many pixels that are not the background
+    shot = tmp_path / "drawing.png"
+    drawing = browser.find_element("id", "drawing")
+    browser.execute_script("arguments[0].scrollIntoView(true);", drawing)
+    drawing.screenshot(str(shot))
+    from PIL import Image
+
+    pixels = np.asarray(Image.open(shot).convert("L"))
+    assert np.count_nonzero(pixels < 200) > 2000
+
+
+def _curves_and_legends(svg: str) -> tuple[list[np.ndarray], list[tuple[float, ...]]]:
+    """The plotted curves' points (pt) and the legend boxes of an SVG figure."""
+    root = ET.fromstring(svg)
+    ns = "{http://www.w3.org/2000/svg}"
+    curves, legends = [], []
+    for group in root.iter(f"{ns}g"):
+        if "clip-path" not in group.attrib:
+            continue
+        for path in group.iter(f"{ns}path"):
+            numbers = [float(v) for v in re.findall(r"-?\d+(?:\.\d+)?", path.get("d", ""))]
+            if len(numbers) >= 4:
+                curves.append(np.array(numbers[: len(numbers) // 2 * 2]).reshape(-1, 2))
+    for rect in root.iter(f"{ns}rect"):
+        if rect.get("stroke") == "#cccccc":
+            legends.append(tuple(float(rect.get(k, 0)) for k in ("x", "y", "width",
+                                                                  "height")))
+    return curves, legends
+
+
+@pytest.mark.parametrize("path", DESIGN_FILES, ids=[p.stem for p in DESIGN_FILES])
+def test_no_legend_covers_a_curve(path: Path) -> None:
+    from camfab.export import figures
+
+    analysis = analyse(load_design(path))
+    for svg in (figures.cam_drawing(analysis), figures.diagrams(analysis)):
+        if svg is None:
+            continue
+        curves, legends = _curves_and_legends(svg)
+        assert legends
+        for x, y, w, h in legends:
+            for points in curves:
+                inside = ((points[:, 0] > x) & (points[:, 0] < x + w)
+                          & (points[:, 1] > y) & (points[:, 1] < y + h))
+                assert not inside.any(), (path.stem, (x, y, w, h))
+
+
+@pytest.mark.parametrize("name", ["seed-10-4", "demo-conjugate", "demo-cylindrical",
+                                  "seed-jump-eccentric"])
+def test_printed_no_page_ends_on_a_heading(tmp_path: Path, name: str) -> None:
+    chromium = _tool("chromium", "chromium")
+    pdftotext = _tool("pdftotext", "poppler-utils")
+    page, _, _ = _page(name, tmp_path)
+    pdf = tmp_path / "report.pdf"
+    subprocess.run([chromium, "--headless", "--no-sandbox", "--disable-gpu",
+                    f"--user-data-dir={tmp_path / 'profile'}", "--no-pdf-header-footer",
+                    f"--print-to-pdf={pdf}", page.as_uri()], capture_output=True, timeout=120,
+                   check=False)
+    assert pdf.exists() and pdf.stat().st_size > 10_000
+    headings = set(re.findall(r"<h[123][^>]*>([^<]+)</h[123]>", page.read_text()))
+    info = subprocess.run([pdftotext, str(pdf), "-"], capture_output=True, text=True,
+                          check=True).stdout
+    pages = info.split("\f")
+    assert len(pages) > 1
+    for number, text in enumerate(pages, start=1):
+        lines = [line.strip() for line in text.splitlines() if line.strip()]
+        if lines:
+            assert lines[-1] not in headings, (number, lines[-1])
+
+
+def _fields(model: BaseModel) -> dict[str, Any]:
+    """The design model's fields, nested, as the report must carry them."""
+    out: dict[str, Any] = {}
+    for name in type(model).model_fields:
+        if name in ("source", "sized"):
+            continue
+        value = getattr(model, name)
+        if isinstance(value, BaseModel):
+            out[name] = _fields(value)
+        elif isinstance(value, tuple) and value and isinstance(value[0], BaseModel):
+            out[name] = [_fields(v) for v in value]
+        else:
+            out[name] = value
+    return out
+
+
+def _same_keys(want: Any, got: Any, where: str) -> None:
+    if isinstance(want, dict):
+        assert isinstance(got, dict), where
+        assert set(want) == set(got), (where, set(want) ^ set(got))
+        for key in want:
+            _same_keys(want[key], got[key], f"{where}.{key}")
+    elif isinstance(want, list) and want and isinstance(want[0], dict):
+        assert isinstance(got, list) and len(got) == len(want), where
+        for i, (w, g) in enumerate(zip(want, got, strict=True)):
+            _same_keys(w, g, f"{where}[{i}]")
+    else:
+        assert (want is None) == (got is None), where
+
+
+@pytest.mark.parametrize("path", DESIGN_FILES, ids=[p.stem for p in DESIGN_FILES])
+def test_the_json_carries_every_input_of_the_design(path: Path) -> None:
+    design: Design = load_design(path)
+    report = json.loads(render(analyse(design)).files[f"{design.name}-report.json"])
+    _same_keys(_fields(design), report["design"], "design")
+    scale = design.mm_per_unit
+    cam = report["design"]["cam"]
+    for key in ("base_radius", "radius", "thickness", "bore"):
+        value = getattr(design.cam, key)
+        if value is not None:
+            assert cam[key] == pytest.approx(value / scale, rel=1e-9)
+    assert report["design"]["table_step"] == pytest.approx(math.degrees(design.table_step))
+    follower = report["follower"]
+    assert follower["roller_radius_mm"] == design.follower.roller_radius
+    assert follower["offset_mm"] == pytest.approx(design.follower.offset, abs=1e-9)
+    lift = report["lift_table"]
+    assert len(lift["rows"]) == round(2 * math.pi / design.table_step)
+    least = design.manufacturing.tolerance  # the band: at least the tolerance, at φ = 0
+    if design.follower.oscillating:
+        least = math.degrees(least / (design.follower.arm_length or 1.0))
+    assert all(row[2] >= least - 1e-6 for row in lift["rows"])
