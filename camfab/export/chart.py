@@ -415,7 +415,8 @@ class Axes:
         box = (left, top, width, height)
         done: set[str] = set()
         for item in items:
-            if item.kind in ("text", "arrow", "extent") or item.group in done:
+            if item.kind == "extent" or item.group in done or (
+                    item.kind in ("text", "arrow") and item.group is None):
                 continue
             if item.group is None:
                 out.append(self._item_svg(item, px, py, box))
@@ -428,11 +429,11 @@ class Axes:
                 data = f" data-frames='{json.dumps(frames)}' data-map=\"{mapping}\""
             out.append(f'<g id="{figure_name}-{item.group}"{data}>')
             out += [self._item_svg(i, px, py, box) for i in items
-                    if i.group == item.group and i.kind not in ("text", "arrow", "extent")]
+                    if i.group == item.group and i.kind != "extent"]
             out.append("</g>")
         out.append("</g>")
         out += [self._item_svg(i, px, py, (left, top, width, height)) for i in items
-                if i.kind in ("text", "arrow")]
+                if i.kind in ("text", "arrow") and i.group is None]
         out.append(f'<rect x="{_num(left)}" y="{_num(top)}" width="{_num(width)}" '
                    f'height="{_num(height)}" fill="none" stroke="#000000" stroke-width="0.8"/>')
         out.append(self._ticks(px, py, (left, top, width, height), (x0, x1), (y0, y1)))

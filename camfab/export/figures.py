@@ -119,6 +119,13 @@ def _motion_panels(analysis: Analysis, axes: list[Axes]) -> None:
         else:
             unit = units.unit(order, False)
         ax.plot(degrees, values, color=PITCH, linewidth=1.0)
+        steps = [f for f in analysis.findings if f.id == "continuity" and not f.ok
+                 and f.quantity == names[order - 1]] if order else []
+        if steps:  # a step of the derivative below: this one is unbounded there
+            ax.text(2.0, 0.93, f"∞ where the {names[order - 1]} steps "
+                    f"({', '.join(f'{a:.4g}°' for a, _ in steps[0].ranges_deg)}); "
+                    "drawn between", ha="left", va="top", fontsize=LEGEND_FONT,
+                    color="#555555", y_in_axes=True)
         unit = unit.replace("^2", "²").replace("^3", "³")
         ax.set_ylabel(f"{names[order]}\n({unit})", fontsize=LEGEND_FONT)
         ax.axhline(0.0, color=REFERENCE, linewidth=0.5)
@@ -143,11 +150,16 @@ def median(values: np.ndarray) -> float:
     return float(ordered[mid] if ordered.size % 2 else (ordered[mid - 1] + ordered[mid]) / 2.0)
 
 
-def clip_radii(radius: np.ndarray) -> np.ndarray:
-    """Radii for plotting: straight stretches (±∞) and the huge values next to them hidden."""
+def clip_radii(radius: np.ndarray, ax: Axes | None = None) -> np.ndarray:
+    """Radii for plotting: straight stretches (±∞) and the huge values next to them hidden,
+    and said so on *ax* when given."""
     finite = np.abs(radius[np.isfinite(radius)])
     cap = 4.0 * median(finite) if finite.size else 1.0
-    return np.where(np.abs(radius) <= cap, radius, np.nan)
+    hidden = ~(np.abs(radius) <= cap)
+    if ax is not None and hidden.any():
+        ax.text(2.0, 0.93, f"|ρ| above {cap:.4g} mm (nearly straight) not drawn", ha="left",
+                va="top", fontsize=LEGEND_FONT, color="#555555", y_in_axes=True)
+    return np.where(hidden, np.nan, radius)
 
 
 def _dynamics_panels(analysis: Analysis, top: Axes, bottom: Axes) -> None:
@@ -181,11 +193,11 @@ def mark_failures(ax: Axes, analysis: Analysis, geom: DiscGeometry | LinearGeome
     steep = np.abs(dense.pressure_angle) > analysis.design.pressure_angle_limit
     if steep.any():
         xy = dense.working.xy[steep]
-        ax.plot(xy[:, 0], xy[:, 1], ".", color=WARN, markersize=2,
+        ax.plot(xy[:, 0], xy[:, 1], ".", color=WARN, markersize=5,
                 label="pressure angle over the limit")
     if geom.undercut:
         cut = geom.working.xy[geom.cut] if geom.cut.any() else dense.working.xy[geom.folds]
-        ax.plot(cut[:, 0], cut[:, 1], ".", color=BAD, markersize=2, label="undercut")
+        ax.plot(cut[:, 0], cut[:, 1], ".", color=BAD, markersize=7, label="undercut")
 
 
 #: The animation's steps are the motion table's rows, at least this far apart (rad).

@@ -52,7 +52,8 @@ def plate_pressure_panels(geom: DiscGeometry, top: Axes, bottom: Axes, limit: fl
         top.plot(theta, phi, color=PITCH, linewidth=1.0, label="pressure angle φ")
     if not fol.flat:  # a flat face's pitch point is no curve its contact follows
         bottom.plot(theta, clip_radii(pitch), color=PITCH, linewidth=1.0, label="pitch curve ρ")
-    bottom.plot(theta, clip_radii(profile), color=CUT, linewidth=1.0, label="profile ρ")
+    bottom.plot(theta, clip_radii(profile, bottom), color=CUT, linewidth=1.0,
+                label="profile ρ")
     dense = geom.dense
     bands(bottom, dense.theta, geom.folds, "undercut")
     steep = np.abs(dense.pressure_angle) > limit
