@@ -60,15 +60,22 @@ def _numbers(report: dict[str, Any]) -> list[tuple[str, str]]:
 
 def _segments(report: dict[str, Any]) -> tuple[list[str], list[list[str]]]:
     keys = [k for k in report["segments"][0] if k not in ("law_coefficients",)]
-    rows = [[_unbounded(k) if seg[k] is None else show(seg[k]) for k in keys]
+    steps = [a for c in report["checks"] if c.get("quantity") == "acceleration" and not c["ok"]
+             for a, _ in c["ranges_deg"]]
+    rows = [[_unbounded(k, seg, steps) if seg[k] is None else show(seg[k]) for k in keys]
             for seg in report["segments"]]
     return [column_label(k) for k in keys], rows
 
 
-def _unbounded(key: str) -> str:
-    """A value the JSON writes as null: a jerk is unbounded where the acceleration steps (the
-    continuity check says where); another is not computed."""
-    return "∞ (acceleration steps)" if "jerk" in key else "—"
+def _unbounded(key: str, segment: dict[str, Any], steps: list[float]) -> str:
+    """A value the JSON writes as null: a jerk is unbounded where the acceleration steps at the
+    segment's ends (the continuity check's angles, deg); another is not computed."""
+    if "jerk" not in key:
+        return "—"
+    ends = (segment["start_deg"], segment["end_deg"] % 360.0)
+    at = [a for a in steps if any(abs(a - e) < 1e-6 for e in ends)]
+    where = ", ".join(f"{a:.4g}°" for a in at)
+    return f"∞ (acceleration step at {where})" if at else "∞ (acceleration steps)"
 
 
 def _key_points(report: dict[str, Any]) -> tuple[list[str], list[list[str]]]:
