@@ -189,9 +189,13 @@ def animation_data(analysis: Analysis) -> dict[str, Any]:
         labels.append("contact force (N)")
         values.append(np.interp(theta, dyn.theta, dyn.force_N, period=2 * np.pi))
     rows = np.column_stack(values)
-    # rounding's residue (3e-14 where a value is zero) shown as 0: far below its column's size
-    size = np.nanmax(np.abs(np.where(np.isfinite(rows), rows, np.nan)), axis=0, initial=0.0)
-    rows = np.where(np.abs(rows) < 1e-9 * size, 0.0, rows)
+    # rounding's residue (3e-14 where a value is zero) shown as 0: far below its column's
+    # typical size (the median of its values that are finite and not 0)
+    for k in range(rows.shape[1]):
+        column = np.abs(rows[:, k])
+        typical = np.sort(column[np.isfinite(column) & (column > 0.0)])
+        if typical.size:
+            rows[column < 1e-9 * typical[typical.size // 2], k] = 0.0
     return {"labels": labels, "sigma": design.cam.sigma,
             "rows": [[None if not np.isfinite(v) else float(f"{v:.6g}") for v in row]
                      for row in rows]}

@@ -125,7 +125,11 @@ def _drawing_svg(analysis: Analysis, dense: DrumDense) -> str:
     d = dense.drum
     design = analysis.design
     dev = development(d, analysis.program, 0.01)
-    fig = Figure(9.0, 4.4, "drawing", left=0.08, right=0.76, bottom=0.14, top=0.9)
+    # as high as the developed surface needs at the panel's width (0.68 of 9 in), plus margins
+    panel = 0.68 * 9.0 * 1.1 * dev.height / max(dev.width, 1e-9)
+    height = min(9.0, max(2.8, panel + 1.0))
+    fig = Figure(9.0, height, "drawing", left=0.08, right=0.76, bottom=0.55 / height,
+                 top=1.0 - 0.4 / height)
     [ax] = fig.subplots()
     ax.set_aspect("equal")
     ax.plot([0, dev.width, dev.width, 0, 0], [0, 0, dev.height, dev.height, 0],
