@@ -25,6 +25,7 @@ def print_summary(analysis: Analysis) -> None:
     """The design, its motion program with peak kinematics, and every check."""
     from camfab.analysis.findings import count
     from camfab.analysis.sizing_words import sized_words
+    from camfab.export.report_html import column_label
 
     design, units = analysis.design, analysis.units
     console = _console()
@@ -37,12 +38,12 @@ def print_summary(analysis: Analysis) -> None:
         console.print(design.description, markup=False, emoji=False)
     with_speed = cam.omega is not None
     table = Table(title="motion program", title_justify="left")
-    for name in ("#", "segment", "law", "θ (deg)", units.lift_key.replace("_", " ")):
+    for name in ("#", "segment", "law", "θ (°)", column_label(units.lift_key)):
         table.add_column(name)
     for order, label in ((1, "v"), (2, "a"), (3, "j")):
         table.add_column(f"max {label} ({units.unit(order, with_speed)})", justify="right")
     numbers = analysis.result.numbers
-    table.add_column("max φ (deg)", justify="right")
+    table.add_column("max φ (°)", justify="right")
     for stats in analysis.segments:
         peaks = stats.max_si if stats.max_si is not None else stats.max_per_rad
         extra = [_num(numbers.segment_pressure[stats.index].value)]

@@ -43,9 +43,8 @@ class MotionUnits:
 
     def unit(self, order: int, with_speed: bool) -> str:
         base = "rad" if self.oscillating else ("m" if with_speed else "mm")
-        if with_speed:
-            return f"{base}/s" if order == 1 else f"{base}/s^{order}"
-        return f"{base}/rad" if order == 1 else f"{base}/rad^{order}"
+        power = {1: "", 2: "²", 3: "³"}[order]
+        return f"{base}/s{power}" if with_speed else f"{base}/rad{power}"
 
     def per_rad_key(self, order: int) -> str:
         base = "rad" if self.oscillating else "mm"

@@ -126,7 +126,6 @@ def _motion_panels(analysis: Analysis, axes: list[Axes]) -> None:
                     f"({', '.join(f'{a:.4g}°' for a, _ in steps[0].ranges_deg)}); "
                     "drawn between", ha="left", va="top", fontsize=LEGEND_FONT,
                     color="#555555", y_in_axes=True)
-        unit = unit.replace("^2", "²").replace("^3", "³")
         ax.set_ylabel(f"{names[order]}\n({unit})", fontsize=LEGEND_FONT)
         ax.axhline(0.0, color=REFERENCE, linewidth=0.5)
 

@@ -149,9 +149,9 @@ def diagrams(ins: Inspection) -> str:
         values = ins.motion[order]
         if omega is not None:
             values = values * omega**order / (1.0 if ins.oscillating else 1000.0)
-            unit = ("rad" if ins.oscillating else "m") + ("/s" if order == 1 else "/s^2")
+            unit = ("rad" if ins.oscillating else "m") + ("/s" if order == 1 else "/s²")
         else:
-            unit = ("rad" if ins.oscillating else "mm") + ("/rad" if order == 1 else "/rad^2")
+            unit = ("rad" if ins.oscillating else "mm") + ("/rad" if order == 1 else "/rad²")
         ax.plot(degrees[thin], values[thin], color=CUT, linewidth=1.0)
         ax.axhline(0.0, color=REFERENCE, linewidth=0.5)
         ax.set_ylabel(f"{name}\n({unit})", fontsize=8)
