@@ -355,7 +355,7 @@ def test_a_failing_build_names_the_size_that_passes(tmp_path: Path) -> None:
     message = next(f.message for f in analysis.findings if f.id == "pressure_angle")
     assert "on the return an offset toward -X lowers it" in message
     found = re.search(r"a base radius of ([\d.]+) mm passes with this offset, and ([\d.]+) mm "
-                      r"with the offset (-?[\d.]+) mm", message)
+                      r"with the offset (-?[\d.]+) mm \(near the least", message)
     assert found, message
     here, best, offset = (float(g) for g in found.groups())
     for radius, e in ((here, data["follower"]["offset"]), (best, offset)):

@@ -372,12 +372,14 @@ class Sizing:
 
 
 def size_design(design: Design, keys: frozenset[str], problem_of: ProblemOf,
-                pivot: bool = False) -> Sizing:
+                pivot: bool = False, precise: bool = True) -> Sizing:
     """The least size of *design*'s cam (see :class:`Sizing`), with the offset of a
     translating follower when *keys* holds ``follower.offset`` and the pivot distance of an
     oscillating one when *pivot*: for a flat face, the offset that centres the face on the
     contact (the least face width: the base radius does not depend on it); else the one
-    whose least size is smallest."""
+    whose least size is smallest, found to :data:`PARAMETER_TOLERANCE_MM` (not *precise*: as
+    the search on the coarse grid finds it, some tenths of a millimetre off at a kink of the
+    motion; the size at it is exact all the same)."""
     from dataclasses import replace
 
     from camfab.curves.follower import FollowerGeometry
@@ -416,7 +418,7 @@ def size_design(design: Design, keys: frozenset[str], problem_of: ProblemOf,
 
         first, found = best_parameter(least(coarse), low, high, (high - low) * 1e-3,
                                       PARAMETER_SCAN)
-        if found.size is None:
+        if found.size is None or not precise:
             return first
         step = (high - low) / PARAMETER_SCAN / 4
         best, _ = best_parameter(least(build[0]), max(low, first - step),
@@ -513,10 +515,11 @@ def advice(design: Design, problem_of: ProblemOf, failing: set[str]) -> dict[str
     else:
         text = f"a {name} of {fmt(here.size, 'mm')} passes"
         if not follower.oscillating and not follower.flat and problem.key == "base_radius":
+            # the offset as a quick search finds it: camfab size --offset finds it exactly
             best = size_design(design, frozenset({"cam.base_radius", "follower.offset"}),
-                               problem_of)
+                               problem_of, precise=False)
             text += " with this offset"
             if best.size is not None and best.offset is not None:
                 text += (f", and {fmt(best.size, 'mm')} with the offset {fmt(best.offset, 'mm')} "
-                         "(the least)")
+                         "(near the least: camfab size --offset)")
     return {key: text for key in seen}
