@@ -48,13 +48,21 @@ def angle_axis(*axes: Axes) -> None:
 
 
 def _segment_marks(ax: Axes, analysis: Analysis, labels: bool) -> None:
-    """Segment boundaries as vertical lines, with the laws written above the top plot."""
+    """Segment boundaries as vertical lines, with the laws written above the top plot where
+    the segment is wide enough for its words (else its kind, else nothing)."""
+    from camfab.export.chart import text_width
+
+    per_degree = ax.box[2] / 360.0
     for seg in analysis.program.segments:
         ax.axvline(math.degrees(seg.start), color=REFERENCE, linewidth=0.6, linestyle=":")
         if labels:
-            name = seg.kind if seg.kind == "dwell" else f"{seg.kind}: {seg.law_name}"
-            ax.text(math.degrees(seg.start + seg.span / 2), 1.02, name, ha="center",
-                    va="bottom", fontsize=LEGEND_FONT, y_in_axes=True)
+            room = math.degrees(seg.span) * per_degree
+            name = next((n for n in (seg.kind if seg.kind == "dwell" else
+                                     f"{seg.kind}: {seg.law_name}", seg.kind)
+                         if text_width(n, LEGEND_FONT) < 0.95 * room), None)
+            if name is not None:
+                ax.text(math.degrees(seg.start + seg.span / 2), 1.02, name, ha="center",
+                        va="bottom", fontsize=LEGEND_FONT, y_in_axes=True)
 
 
 def panel_stack(rows: int) -> tuple[Figure, list[Axes]]:
@@ -121,10 +129,11 @@ def _motion_panels(analysis: Analysis, axes: list[Axes]) -> None:
         ax.plot(degrees, values, color=PITCH, linewidth=1.0)
         steps = [f for f in analysis.findings if f.id == "continuity" and not f.ok
                  and f.quantity == names[order - 1]] if order else []
-        if steps:  # a step of the derivative below: this one is unbounded there
-            ax.text(2.0, 0.93, f"∞ where the {names[order - 1]} steps "
-                    f"({', '.join(f'{a:.4g}°' for a, _ in steps[0].ranges_deg)}); "
-                    "drawn between", ha="left", va="top", fontsize=LEGEND_FONT,
+        if steps:  # a step of the derivative below: this one is unbounded there; said
+            # beside the panel, where no curve is
+            ax.text(366.0, 0.5, f"∞ where the {names[order - 1]}\nsteps (at "
+                    f"{', '.join(f'{a:.4g}°' for a, _ in steps[0].ranges_deg)});\n"
+                    "drawn between", ha="left", va="center", fontsize=LEGEND_FONT,
                     color="#555555", y_in_axes=True)
         ax.set_ylabel(f"{names[order]}\n({unit})", fontsize=LEGEND_FONT)
         ax.axhline(0.0, color=REFERENCE, linewidth=0.5)
@@ -155,9 +164,10 @@ def clip_radii(radius: np.ndarray, ax: Axes | None = None) -> np.ndarray:
     finite = np.abs(radius[np.isfinite(radius)])
     cap = 4.0 * median(finite) if finite.size else 1.0
     hidden = ~(np.abs(radius) <= cap)
-    if ax is not None and hidden.any():
-        ax.text(2.0, 0.93, f"|ρ| above {cap:.4g} mm (nearly straight) not drawn", ha="left",
-                va="top", fontsize=LEGEND_FONT, color="#555555", y_in_axes=True)
+    if ax is not None and hidden.any():  # said beside the panel, under its legend
+        ax.text(366.0, 0.02, f"|ρ| above {cap:.4g} mm\n(nearly straight) not drawn",
+                ha="left", va="bottom", fontsize=LEGEND_FONT, color="#555555",
+                y_in_axes=True)
     return np.where(hidden, np.nan, radius)
 
 
