@@ -163,9 +163,13 @@ def scaled(value: Any, factor: float) -> Any:
 #: design camfab builds (absurd numbers, other types and combinations, odd motion programs).
 MUTATIONS = ("value", "value", "scale", "scale", "scale", "delete", "add", "rename", "wrap",
              "choice", "choice", "motion", "motion", "motion", "swap", "alias", "conditions",
-             "points")
+             "points", "auto")
 BUILDABLE = ("scale", "scale", "scale", "scale", "choice", "motion", "motion", "swap",
-             "conditions", "points")
+             "conditions", "points", "auto")
+
+#: Where ``auto`` asks camfab to size a design (and some keys it does not size).
+AUTO_PATHS = (("cam", "base_radius"), ("cam", "base_radius"), ("cam", "radius"),
+              ("follower", "offset"), ("cam", "thickness"), ("follower", "pivot_distance"))
 
 
 def _mutate(draw: Any, data: dict[str, Any], ops: tuple[str, ...] = MUTATIONS,
@@ -235,6 +239,14 @@ def _mutate(draw: Any, data: dict[str, Any], ops: tuple[str, ...] = MUTATIONS,
             data.setdefault("cam", {})
             if isinstance(data["cam"], dict):
                 data["cam"]["type"] = draw(st.sampled_from(CHOICES["type"]))
+        return data
+    if op == "auto":  # a radius or offset left to camfab's sizing, a stock step to round to
+        section, key = draw(st.sampled_from(AUTO_PATHS))
+        if isinstance(data.get(section), dict):
+            data[section][key] = draw(st.sampled_from(["auto", "auto", "AUTO", " auto"]))
+        if draw(st.booleans()):
+            data["sizing"] = {"round_to": draw(st.sampled_from([0.5, 1, 0.001, 1e-9, 100,
+                                                                 -1, "auto", "0.5 in"]))}
         return data
     if op == "swap":  # a section of another design: mismatched but well-formed combinations
         other = BASES[draw(st.sampled_from(sorted(BASES)))]
