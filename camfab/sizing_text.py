@@ -10,16 +10,12 @@ if TYPE_CHECKING:
     from camfab.analysis.sizing import Sizing
     from camfab.design import Design
 
-#: The sized keys in words.
-NAMES = {"base_radius": "base radius", "radius": "drum radius"}
-
-
 def sizing_lines(design: Design, sizing: Sizing) -> list[str]:
     """``camfab size``'s answer: the least size, what governs it and where, the offset or pivot
     distance chosen, every limit at that size; or why no size meets the limits."""
-    from camfab.analysis.sizing import unmet_words
+    from camfab.analysis.sizing import SIZE_NAMES, unmet_words
 
-    name = NAMES[sizing.key]
+    name = SIZE_NAMES[sizing.key]
     found = sizing.found
     if found.size is None:
         return [f"{design.name}: {unmet_words(sizing, name)}"]

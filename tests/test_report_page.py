@@ -10,9 +10,7 @@ from __future__ import annotations
 
 import json
 import math
-import os
 import re
-import shutil
 import subprocess
 import xml.etree.ElementTree as ET
 from pathlib import Path
@@ -25,9 +23,7 @@ from pydantic import BaseModel
 from camfab.design import Design
 from camfab.pipeline import analyse, load_design, render
 
-from .conftest import DESIGN_FILES, DESIGNS
-
-REQUIRED = bool(os.environ.get("CAMFAB_REQUIRE_CONSUMERS"))
+from .conftest import DESIGN_FILES, DESIGNS, tool
 
 #: One design of every cam kind (and of every follower of a disc cam).
 KINDS = ["seed-10-4", "seed-10-3-oscillating", "demo-oscillating-flat", "demo-inch-flat",
@@ -39,26 +35,17 @@ KINDS = ["seed-10-4", "seed-10-3-oscillating", "demo-oscillating-flat", "demo-in
 FRAMES = (0, 37, 90, 181, 270, 359)
 
 
-def _tool(name: str, package: str) -> str:
-    path = shutil.which(name)
-    if path is None:
-        if REQUIRED:
-            pytest.fail(f"{name} is not installed")
-        pytest.skip(f"{name} is not installed (apt-get install {package})")
-    return path
-
-
 @pytest.fixture(scope="module")
 def browser() -> Any:
     webdriver = pytest.importorskip("selenium.webdriver")
     from selenium.webdriver.chrome.service import Service
 
-    driver_path = _tool("chromedriver", "chromium-driver")
+    driver_path = tool("chromedriver", "chromium-driver")
     options = webdriver.ChromeOptions()
     for flag in ("--headless=new", "--no-sandbox", "--disable-gpu", "--window-size=1280,1000",
                  "--disable-background-networking", "--no-first-run"):
         options.add_argument(flag)
-    options.binary_location = _tool("chromium", "chromium")
+    options.binary_location = tool("chromium", "chromium")
     driver = webdriver.Chrome(service=Service(driver_path), options=options)
     yield driver
     driver.quit()
@@ -235,8 +222,8 @@ def test_no_legend_covers_a_curve(path: Path) -> None:
 @pytest.mark.parametrize("name", ["seed-10-4", "demo-conjugate", "demo-cylindrical",
                                   "seed-jump-eccentric"])
 def test_printed_no_page_ends_on_a_heading(tmp_path: Path, name: str) -> None:
-    chromium = _tool("chromium", "chromium")
-    pdftotext = _tool("pdftotext", "poppler-utils")
+    chromium = tool("chromium", "chromium")
+    pdftotext = tool("pdftotext", "poppler-utils")
     page, _, _ = _page(name, tmp_path)
     pdf = tmp_path / "report.pdf"
     subprocess.run([chromium, "--headless", "--no-sandbox", "--disable-gpu",

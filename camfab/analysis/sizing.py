@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Literal, Protocol
 
 import numpy as np
@@ -31,6 +31,9 @@ if TYPE_CHECKING:
     from camfab.curves.follower import FollowerGeometry
     from camfab.design import Design
     from camfab.motion.program import MotionProgram
+
+#: The keys sized (:attr:`SizeProblem.key`), in words.
+SIZE_NAMES = {"base_radius": "base radius", "radius": "drum radius"}
 
 #: How close (mm) the sized radius comes to the least one that passes on the grids (it is on the
 #: side that passes).
@@ -158,10 +161,6 @@ class Found:
     searched_to: float | None = None
     unchanged: frozenset[str] = frozenset()
 
-    @property
-    def ok(self) -> bool:
-        return self.size is not None
-
 
 def passes(limits: list[LimitValue]) -> bool:
     return all(limit.ok for limit in limits)
@@ -213,8 +212,8 @@ def _none(problem: SizeProblem, sizes: list[float]) -> Found:
 
 
 def _at(limit: LimitValue, size: float) -> LimitValue:
-    return LimitValue(limit.id, limit.what, limit.ok, limit.value, limit.limit, limit.unit,
-                      limit.sense, limit.at_deg, size)
+    """*limit* with the size it was measured at as its ``least``."""
+    return replace(limit, least=size)
 
 
 def _bisect(problem: SizeProblem, below: float, size: float, tolerance: float,
@@ -380,8 +379,6 @@ def size_design(design: Design, keys: frozenset[str], problem_of: ProblemOf,
     whose least size is smallest, found to :data:`PARAMETER_TOLERANCE_MM` (not *precise*: as
     the search on the coarse grid finds it, some tenths of a millimetre off at a kink of the
     motion; the size at it is exact all the same)."""
-    from dataclasses import replace
-
     from camfab.curves.follower import FollowerGeometry
 
     follower = FollowerGeometry.from_design(design)
@@ -503,7 +500,7 @@ def advice(design: Design, problem_of: ProblemOf, failing: set[str]) -> dict[str
 
     follower = FollowerGeometry.from_design(design)
     problem = problem_of(design, follower, grids(design.program))
-    name = "drum radius" if problem.key == "radius" else "base radius"
+    name = SIZE_NAMES[problem.key]
     current = design.cam.radius if problem.key == "radius" else design.cam.base_radius
     assert current is not None
     seen = {limit.id for limit in problem.evaluate(current, False) if not limit.ok} & failing

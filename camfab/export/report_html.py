@@ -196,7 +196,7 @@ def animation_data(analysis: Analysis) -> dict[str, Any]:
         typical = np.sort(column[np.isfinite(column) & (column > 0.0)])
         if typical.size:
             rows[column < 1e-9 * typical[typical.size // 2], k] = 0.0
-    return {"labels": labels, "sigma": design.cam.sigma,
+    return {"labels": labels,
             "rows": [[None if not np.isfinite(v) else float(f"{v:.6g}") for v in row]
                      for row in rows]}
 

@@ -105,25 +105,20 @@ def plate_drawing_svg(result: PlateResult, analysis: Analysis) -> str:
     reach = float(np.max(np.hypot(plate[:, 0], plate[:, 1]))) if plate.size else 1.0
     ax.include(reach * np.cos(angle), reach * np.sin(angle))
     moving = group_points(ax, "follower")
+    pivot = cam.pivot
+    # the follower's move from θ = 0: the arm's turn (rad), or the rise (mm)
+    move = _arm_angles(trace, pivot) if fol.oscillating else trace[:, 1] - trace[0, 1]
+    ends = move[[int(np.argmin(move)), int(np.argmax(move))]]
     if fol.oscillating:
-        pivot = cam.pivot
-        swing = _arm_angles(trace, pivot)
-        ax.include(*turned(moving, pivot, swing[[int(np.argmin(swing)),
-                                                 int(np.argmax(swing))]]).T)
+        ax.include(*turned(moving, pivot, ends).T)
     else:
-        rise = trace[:, 1] - trace[0, 1]
-        for shift in (rise.min(), rise.max()):
+        for shift in ends:
             ax.include(moving[:, 0], moving[:, 1] + shift)
     scale_bar(ax, 2.0 * reach, design.units, 1.0 / design.mm_per_unit)
     ox, oy, kx, ky = ax.to_frame()
     ax.animate("cam", rotations(cam.sigma * theta, (ox, oy)))
-    if fol.oscillating:
-        pivot = cam.pivot
-        ax.animate("follower", rotations(_arm_angles(trace, pivot),
-                                         (ox + kx * pivot[0], oy - ky * pivot[1])))
-    else:
-        ax.animate("follower", translations(np.zeros(theta.size),
-                                            -ky * (trace[:, 1] - trace[0, 1])))
+    ax.animate("follower", rotations(move, (ox + kx * pivot[0], oy - ky * pivot[1]))
+               if fol.oscillating else translations(np.zeros(theta.size), -ky * move))
     ax.legend(fontsize=LEGEND_FONT, outside_right=True)
     ax.set_title(f"{design.name} at θ = 0 ({design.cam.rotation})", fontsize=10)
     ax.set_xlabel("x (mm)")
