@@ -375,3 +375,30 @@ def test_an_offset_alone_is_sized_and_the_base_radius_stays(tmp_path: Path) -> N
     assert design.sized is not None and design.sized.base_radius is None
     assert design.follower.offset == pytest.approx(both.offset, abs=1e-9)
     assert design.sized.offset == pytest.approx(both.offset, abs=1e-9)
+
+
+def _rounds_badly(start: float, extra: float) -> float:
+    """A bore radius x ≥ *start* whose x + *extra* less *extra* comes out above x in floating
+    point (x + *extra* crossing a power of two rounds it): where a rule written as
+    x > R − extra would refuse R = x + extra sized exactly."""
+    found = next((x for x in start + 1e-3 * np.arange(10_000) if x > (x + extra) - extra),
+                 None)
+    assert found is not None
+    return float(found)
+
+
+@pytest.mark.parametrize("kind, key, extra", [("disc-mushroom", "base_radius", 1.0),
+                                               ("cylindrical", "radius", 9.0)])
+def test_a_radius_sized_to_the_bore_passes_the_rules_exactly(tmp_path: Path, kind: str, key: str,
+                                                            extra: float) -> None:
+    data = starter(kind)
+    data["cam"].pop("keyway", None)
+    # a bore that governs, and rounds the wrong way: x + extra just past 32 or 64
+    half = _rounds_badly(31.5 if extra == 1.0 else 55.5, extra)
+    data["cam"]["bore"] = 2.0 * half
+    if kind == "cylindrical":
+        data["cam"]["groove_depth"] = extra - 1.0
+    data["cam"][key] = "auto"
+    design = design_from_text(yaml.safe_dump(data))
+    assert design.sized is not None and design.sized.governed_by == "bore"
+    assert getattr(design.cam, key) == pytest.approx(half + extra, abs=1e-9)

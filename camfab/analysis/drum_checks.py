@@ -113,7 +113,7 @@ def drum_problem(design: Design, grid_pair: tuple[Grid, Grid]) -> SizeProblem:
     build's grid of cam angles, and with a finer one)."""
     from dataclasses import replace
 
-    from camfab.design.rules import MIN_WALL_MM
+    from camfab.design.rules import MIN_WALL_MM, wall_need
     from camfab.geometry.drum import ANALYSIS_RADII
 
     cam = design.cam
@@ -121,13 +121,13 @@ def drum_problem(design: Design, grid_pair: tuple[Grid, Grid]) -> SizeProblem:
     depth = cam.groove_depth or 0.0
     limit_deg = math.degrees(design.pressure_angle_limit)
     wall = f"a {MIN_WALL_MM:g} mm wall"
-    needs = [("depth", f"{wall} under the groove", depth + MIN_WALL_MM)]
+    needs = [("depth", f"{wall} under the groove", wall_need(depth=depth))]
     if cam.bore is not None:
         needs.append(("bore", f"{wall} between the bore and the groove's floor",
-                      cam.bore / 2.0 + depth + MIN_WALL_MM))
+                      wall_need(cam.bore, depth)))
         if cam.keyway is not None:
             needs.append(("keyway", f"{wall} beyond the keyway",
-                          cam.bore / 2.0 + cam.keyway.depth + MIN_WALL_MM))
+                          wall_need(cam.bore, cam.keyway.depth)))
     # the drum of the design at radius 1: only its radius changes
     base = replace(_drum_of(design), radius=1.0)
 

@@ -27,7 +27,7 @@ from camfab.analysis.sizing import (
 )
 from camfab.arrays import Array
 from camfab.curves.follower import FollowerGeometry
-from camfab.design.rules import MIN_WALL_MM, oscillating_fit
+from camfab.design.rules import MIN_WALL_MM, oscillating_fit, wall_need
 from camfab.geometry.disc import DiscCam
 from camfab.motion.mirror import opposite
 
@@ -133,11 +133,11 @@ def fit_limits(design: Design, follower: FollowerGeometry, base: float) -> list[
     out = [LimitValue("tolerance", "the export tolerance", base > tolerance, base, tolerance,
                       least=tolerance)]
     if cam.bore is not None:
-        need = cam.bore / 2.0 + MIN_WALL_MM
+        need = wall_need(cam.bore)
         out.append(LimitValue("bore", f"a {MIN_WALL_MM:g} mm wall round the bore", base >= need,
                               base, need, least=need))
         if cam.keyway is not None:
-            need += cam.keyway.depth
+            need = wall_need(cam.bore, cam.keyway.depth)
             out.append(LimitValue("keyway", f"a {MIN_WALL_MM:g} mm wall beyond the keyway",
                                   base >= need, base, need, least=need))
     if follower.oscillating:
@@ -207,7 +207,7 @@ def _partner_limits(design: Design, cam_a: DiscCam, rules: CamLimits, grid: Grid
     limits of a plate."""
     from camfab.geometry.conjugate import partner_base_radius, partner_cam
 
-    need = max(MIN_WALL_MM, (design.cam.bore or 0.0) / 2.0 + MIN_WALL_MM)
+    need = wall_need(design.cam.bore or 0.0)
     base_b = partner_base_radius(design, cam_a)
     fit = LimitValue("partner_b", "cam b's base circle round the bore", base_b >= need, base_b,
                      need)

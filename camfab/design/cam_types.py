@@ -17,7 +17,14 @@ import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, ClassVar, Literal
 
-from camfab.design.rules import MIN_NOSE_SHARE, MIN_SEGMENT_DEG, MIN_WALL_MM, fail, mm
+from camfab.design.rules import (
+    MIN_NOSE_SHARE,
+    MIN_SEGMENT_DEG,
+    MIN_WALL_MM,
+    fail,
+    mm,
+    wall_need,
+)
 
 if TYPE_CHECKING:
     from camfab.curves.shaped import ShapedCam
@@ -211,10 +218,10 @@ class _Drum(CamTypeSpec):
         max_lift = program.max_lift
         assert cam.radius is not None and cam.length is not None
         assert cam.groove_depth is not None
-        if cam.groove_depth > cam.radius - MIN_WALL_MM:
+        if cam.radius < wall_need(depth=cam.groove_depth):
             fail(("cam", "groove_depth"), f"must leave at least {MIN_WALL_MM:g} mm below the "
                  f"groove (radius {mm(cam.radius)})")
-        if cam.bore is not None and cam.bore / 2 > cam.radius - cam.groove_depth - MIN_WALL_MM:
+        if cam.bore is not None and cam.radius < wall_need(cam.bore, cam.groove_depth):
             fail(("cam", "bore"), "reaches the groove root "
                  f"(root radius {mm(cam.radius - cam.groove_depth)})")
         half = (fol.roller_radius or 0.0) + fol.groove_clearance / 2

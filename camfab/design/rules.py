@@ -22,6 +22,14 @@ if TYPE_CHECKING:
 #: thinner walls do not survive printing or machining.
 MIN_WALL_MM = 1.0
 
+def wall_need(bore: float = 0.0, depth: float = 0.0) -> float:
+    """The least radius (mm) that leaves :data:`MIN_WALL_MM` of material beyond what reaches
+    out from the axis: a bore of diameter *bore*, and *depth* further (a keyway's depth, or a
+    drum's groove reaching in from its surface). The design file's rules and the sizing both
+    judge a radius against it, so that a radius sized to it exactly passes the rules."""
+    return bore / 2 + depth + MIN_WALL_MM
+
+
 #: Shortest motion segment (degrees of cam angle). Far shorter than any real cam's, it keeps
 #: s‴ = Δ·Cj/β³ finite in floating point.
 MIN_SEGMENT_DEG = 1e-6
@@ -93,7 +101,7 @@ def _check_cam(design: Design, sizing: frozenset[str]) -> None:
     # a radius left to the sizing is sized to keep the bore and keyway inside
     if spec.bore_within is not None and f"cam.{spec.bore_within}" not in sizing:
         rb = getattr(cam, spec.bore_within) or 0.0
-        if cam.bore is not None and cam.bore / 2 > rb - MIN_WALL_MM:
+        if cam.bore is not None and rb < wall_need(cam.bore):
             fail(("cam", "bore"),
                  f"leaves less than {MIN_WALL_MM:g} mm of material inside the base circle "
                  f"(bore radius {mm(cam.bore / 2)} vs base radius {mm(rb)})")
@@ -105,7 +113,7 @@ def _check_cam(design: Design, sizing: frozenset[str]) -> None:
             fail(("cam", "keyway", "width"), f"must be narrower than the bore ({mm(cam.bore)})")
         outer = (None if spec.keyway_within is None or f"cam.{spec.keyway_within}" in sizing
                  else getattr(cam, spec.keyway_within))
-        if outer is not None and cam.bore / 2 + cam.keyway.depth > outer - MIN_WALL_MM:
+        if outer is not None and outer < wall_need(cam.bore, cam.keyway.depth):
             fail(("cam", "keyway", "depth"),
                  f"cuts to within {MIN_WALL_MM:g} mm of the cam's edge")
 

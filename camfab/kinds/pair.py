@@ -294,13 +294,13 @@ class Conjugate:
     def check(design: Design) -> None:
         """Cam b must have a base circle around the bore, and an oscillating pair's arm b must
         stay short of 180° from the line of centres with the pivot outside both cams."""
-        from camfab.design.rules import MIN_WALL_MM, fail, mm
+        from camfab.design.rules import fail, mm, wall_need
         from camfab.geometry.conjugate import partner_base_radius
         from camfab.geometry.disc_geometry import disc_cam
 
         program = design.program
         cam_a = disc_cam(design)
-        need = max(MIN_WALL_MM, (design.cam.bore or 0.0) / 2.0 + MIN_WALL_MM)
+        need = wall_need(design.cam.bore or 0.0)
         base_b = partner_base_radius(design, cam_a)
         if design.follower.oscillating:
             if base_b < need:
