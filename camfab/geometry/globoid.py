@@ -1,0 +1,195 @@
+"""Globoidal cams: the exact flanks of the groove a cylindrical roller on an oscillating arm
+runs in (the notes' globoidal cam; docs/THEORY.md §H).
+
+Frame: the cam axis is Z; the follower's pivot axis is parallel to Y through (C, 0, 0), C the
+centre distance; the arm's angle ψ = ψ₀ + s(θ) is measured from the line of centres (toward +Z
+as it grows); the roller's axis runs along the arm, a = (−cos ψ, 0, sin ψ), and its point at
+distance ℓ from the pivot is Q = (C − ℓ cos ψ, 0, ℓ sin ψ), ℓ over the roller's length. The cam
+turns by σθ about Z; a point fixed in the frame appears on the cam at Rot_z(−σθ)·P.
+
+Per radian of cam angle the point Q of the roller moves relative to the cam (in the frame) by
+v = (ψ′ℓ sin ψ, −σD, ψ′ℓ cos ψ) with D = C − ℓ cos ψ. A cylinder's normal at a point of contact
+is perpendicular to its axis, and the contact condition asks it to be perpendicular to the
+relative velocity too (the rotation of the roller adds nothing along the normal): so
+
+    n = a × v / |a × v| = (σD sin ψ, ψ′ℓ, σD cos ψ) / √(D² + ψ′²ℓ²),   P± = Q ± r·n,
+
+the two flanks. The pressure angle, between n and the direction Q moves in as the arm turns,
+(sin ψ, 0, cos ψ), is tan α = |ψ′|ℓ / |D|. A flank is regular where J = (∂P/∂ℓ × ∂P/∂θ)·n
+keeps the sign it has on the axis surface (r = 0, where it is |a × v| > 0); J is a quadratic in
+r, and the smallest positive root over the flank is the largest roller radius that does not
+undercut it.
+
+Lengths are millimetres, angles radians (s, s′, s″ per radian of cam angle: the arm's swing).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from camfab.arrays import Array
+
+
+@dataclass(frozen=True)
+class Globoid:
+    """A globoidal cam's follower and turning (mm, rad).
+
+    Attributes
+    ----------
+    centre
+        C: from the cam axis to the pivot axis.
+    arm
+        L: from the pivot to the middle of the roller, along the arm.
+    length
+        The roller's length along its axis.
+    radius
+        The wall's distance from the roller's axis: its radius plus half the clearance.
+    rest
+        ψ₀: the arm's angle at zero lift, from the line of centres.
+    sigma
+        +1 counter-clockwise about Z, −1 clockwise.
+    """
+
+    centre: float
+    arm: float
+    length: float
+    radius: float
+    rest: float
+    sigma: int = 1
+
+    @property
+    def concave(self) -> bool:
+        """True when the roller lies between the pivot and the cam axis (ℓ < C): the hourglass
+        globoid; else the barrel."""
+        return self.arm < self.centre
+
+    def ells(self, count: int) -> Array:
+        """*count* distances ℓ (mm) along the roller, end to end."""
+        half = self.length / 2.0
+        return np.linspace(self.arm - half, self.arm + half, count)
+
+    # -- the roller's axis and the contact normal, in the frame at cam angle θ -------------------
+
+    def axis_point(self, ell: Array, psi: Array) -> Array:
+        """Q (..., 3): the roller axis' point at distance *ell* from the pivot, arm at *psi*."""
+        ell, psi = np.broadcast_arrays(ell, psi)
+        return np.stack((self.centre - ell * np.cos(psi), np.zeros_like(ell),
+                         ell * np.sin(psi)), axis=-1)
+
+    def relative_velocity(self, ell: Array, psi: Array, dpsi: Array) -> Array:
+        """v (..., 3): how Q moves against the cam per radian of cam angle (in the frame)."""
+        ell, psi, dpsi = np.broadcast_arrays(ell, psi, dpsi)
+        d = self.centre - ell * np.cos(psi)
+        return np.stack((dpsi * ell * np.sin(psi), -self.sigma * d, dpsi * ell * np.cos(psi)),
+                        axis=-1)
+
+    def normal(self, ell: Array, psi: Array, dpsi: Array) -> Array:
+        """n (..., 3): the unit contact normal a × v / |a × v| (in the frame)."""
+        ell, psi, dpsi = np.broadcast_arrays(ell, psi, dpsi)
+        d = self.centre - ell * np.cos(psi)
+        n = np.stack((self.sigma * d * np.sin(psi), dpsi * ell, self.sigma * d * np.cos(psi)),
+                     axis=-1)
+        return n / np.hypot(d, dpsi * ell)[..., None]
+
+    def pressure_angle(self, ell: Array, psi: Array, dpsi: Array) -> Array:
+        """|α| (rad) along the contact line: tan α = |ψ′|ℓ / |C − ℓ cos ψ|."""
+        ell, psi, dpsi = np.broadcast_arrays(ell, psi, dpsi)
+        return np.arctan2(np.abs(dpsi) * ell, np.abs(self.centre - ell * np.cos(psi)))
+
+    # -- the flanks on the cam ------------------------------------------------------------------
+
+    def flank(self, theta: Array, ell: Array, motion: Array, side: int,
+              radius: float | None = None) -> Array:
+        """P (..., 3) on the cam: the flank on *side* (+1 along n, −1 against it) of a roller of
+        *radius* (default the wall's) at cam angles *theta* (motion (4, ...): s, s′, s″, s‴ of
+        the swing) and distances *ell* along the roller, broadcast together."""
+        r = self.radius if radius is None else radius
+        psi, dpsi = self.rest + motion[0], motion[1]
+        p = self.axis_point(ell, psi) + side * r * self.normal(ell, psi, dpsi)
+        return to_cam(p, self.sigma * np.asarray(theta))
+
+
+def to_cam(points: Array, turned: Array) -> Array:
+    """Frame *points* (..., 3) as seen on a cam turned by *turned* (rad) about Z: Rot_z(−turned)."""
+    c, s = np.cos(turned), np.sin(turned)
+    x, y, z = points[..., 0], points[..., 1], points[..., 2]
+    return np.stack((c * x + s * y, -s * x + c * y, z), axis=-1)
+
+
+def regularity(globoid: Globoid, theta: Array, ell: Array, motion_at: object, side: int,
+               radius: float, step: float = 1e-5) -> Array:
+    """J = (∂P/∂ℓ × ∂P/∂θ)·n on the cam (mm²/rad) for the flank on *side* of a roller of
+    *radius*: positive where the flank is a regular surface (as the axis surface is, r = 0),
+    zero or negative where it folds (an undercut). The derivatives are central differences of
+    the exact flank (*step* in mm and rad); *motion_at* gives the motion (4, N) at cam angles
+    (N,)."""
+    theta = np.asarray(theta, dtype=np.float64)
+    ell = np.asarray(ell, dtype=np.float64)
+
+    def evaluate(t: Array) -> Array:  # motion_at takes (N,) angles and gives (4, N)
+        flat = motion_at(np.ravel(t))  # type: ignore[operator]
+        return np.asarray(flat).reshape((4, *np.shape(t)))
+
+    def at(t: Array, e: Array) -> Array:
+        return globoid.flank(t, e, evaluate(t), side, radius)
+
+    d_ell = (at(theta, ell + step) - at(theta, ell - step)) / (2 * step)
+    d_theta = (at(theta + step, ell) - at(theta - step, ell)) / (2 * step)
+    m = evaluate(theta)
+    n = globoid.normal(ell, globoid.rest + m[0], m[1])
+    n_cam = to_cam(n, globoid.sigma * theta)
+    return np.einsum("...i,...i->...", np.cross(d_ell, d_theta), n_cam)
+
+
+def undercut_radius(globoid: Globoid, theta: Array, ell: Array, motion: Array,
+                    motion_ahead: Array, motion_behind: Array, step: float) -> float:
+    """The largest roller radius (mm) with which no flank folds at the cam angles *theta*
+    (their motion, and the motion *step* rad ahead and behind) and distances *ell* (both
+    broadcast): the smallest positive root of J(r) = J₀ + J₁r + J₂r² over both flanks, the
+    coefficients from the exact axis point and normal (central differences in θ and ℓ)."""
+    g = globoid
+    theta = np.asarray(theta, dtype=np.float64)
+
+    def frames(m: Array, t: Array, e: Array) -> tuple[Array, Array]:
+        q = to_cam(g.axis_point(e, g.rest + m[0]), g.sigma * t)
+        n = to_cam(g.normal(e, g.rest + m[0], m[1]), g.sigma * t)
+        return q, n
+
+    h = 1e-5
+    _, n0 = frames(motion, theta, ell)
+    qa, na = frames(motion_ahead, theta + step, ell)
+    qb, nb = frames(motion_behind, theta - step, ell)
+    qe1, ne1 = frames(motion, theta, ell + h)
+    qe0, ne0 = frames(motion, theta, ell - h)
+    q_t, n_t = (qa - qb) / (2 * step), (na - nb) / (2 * step)
+    q_l, n_l = (qe1 - qe0) / (2 * h), (ne1 - ne0) / (2 * h)
+    best = math.inf
+    for side in (1, -1):
+        # J(r) = ((q_l + s r n_l) × (q_t + s r n_t))·n0, s the side: J₀ = |a × v| > 0
+        j0 = np.einsum("...i,...i->...", np.cross(q_l, q_t), n0)
+        j1 = side * np.einsum("...i,...i->...", np.cross(n_l, q_t) + np.cross(q_l, n_t), n0)
+        j2 = np.einsum("...i,...i->...", np.cross(n_l, n_t), n0)
+        roots = _smallest_positive_root(j2, j1, j0)
+        if roots.size and np.isfinite(roots).any():
+            best = min(best, float(np.nanmin(roots)))
+    return best
+
+
+def _smallest_positive_root(a: Array, b: Array, c: Array) -> Array:
+    """Elementwise, the smallest positive root of a r² + b r + c (inf where none)."""
+    a, b, c = (np.asarray(v, dtype=np.float64) for v in (a, b, c))
+    out = np.full(np.broadcast(a, b, c).shape, np.inf)
+    disc = b * b - 4 * a * c
+    with np.errstate(divide="ignore", invalid="ignore"):
+        sq = np.sqrt(np.maximum(disc, 0.0))
+        quad = np.abs(a) > 1e-12 * (np.abs(b) + np.abs(c) + 1e-300)
+        r1 = np.where(quad, (-b - sq) / (2 * a), -c / b)
+        r2 = np.where(quad, (-b + sq) / (2 * a), np.inf)
+    real = (disc >= 0) | ~quad
+    for r in (r1, r2):
+        good = real & np.isfinite(r) & (r > 0)
+        out = np.where(good, np.minimum(out, r), out)
+    return out
