@@ -152,3 +152,33 @@ def test_the_undercut_limit_matches_a_scan_of_the_roller_radius(g: Globoid) -> N
     spacing = radii[1] - radii[0]
     assert limit <= first + 1e-6 and limit > first - spacing - 1e-6
     assert not folds(0.99 * limit) and folds(1.01 * limit)
+
+
+@pytest.mark.parametrize("g", CASES, ids=IDS)
+def test_the_groove_tube_is_one_closed_solid(g: Globoid) -> None:
+    import manifold3d
+
+    from camfab.export.stl import StlMesh
+    from camfab.geometry.globoid import groove_tube
+
+    theta = np.linspace(0.0, 2 * math.pi, 721)[:-1]
+    half = g.length / 2.0
+    inward = 1.0 if g.concave else -1.0  # along the arm toward the cam's inside
+    top = g.arm - inward * (half + 3.0)  # outside the blank
+    floor = g.arm + inward * (half + 0.5)
+    vertices, faces = groove_tube(g, theta, motion(theta), top, floor)
+    mesh = StlMesh(vertices, faces)
+    closed, wound = mesh.edges()
+    assert closed and wound
+    solid = manifold3d.Manifold(manifold3d.Mesh64(
+        vert_properties=np.ascontiguousarray(vertices, dtype=np.float64),
+        tri_verts=np.ascontiguousarray(faces, dtype=np.uint64)))
+    assert solid.status() == manifold3d.Error.NoError
+    volume = float(solid.volume())
+    assert volume == pytest.approx(mesh.volume(), rel=1e-9)
+    # Pappus, station by station: the section's area times the path of its centroid
+    area = abs(floor - top) * 2 * g.radius  # the section is a rectangle in (ℓ, u)
+    m = motion(theta)
+    centre = to_cam(g.axis_point(np.full(theta.size, g.arm), g.rest + m[0]), g.sigma * theta)
+    path = float(np.sum(np.linalg.norm(np.roll(centre, -1, axis=0) - centre, axis=1)))
+    assert volume == pytest.approx(area * path, rel=0.05)

@@ -193,3 +193,44 @@ def _smallest_positive_root(a: Array, b: Array, c: Array) -> Array:
         good = real & np.isfinite(r) & (r > 0)
         out = np.where(good, np.minimum(out, r), out)
     return out
+
+
+def groove_tube(globoid: Globoid, theta: Array, motion: Array, top: float, floor: float,
+                across: int = 8, along: int = 8) -> tuple[Array, Array]:
+    """The groove as one closed tube on the cam (mm): at each cam angle of *theta* (its
+    *motion* (4, N), the cycle's stations, the last not repeating the first) the section
+    bounded by the two flanks from the distance *top* along the arm (outside the blank) to
+    *floor* (past the roller's far end), the floor across from one flank to the other, and the
+    top across back; consecutive sections joined by quads split into triangles, wound so that
+    the normals point out of the tube. Returns (V, 3) vertices and (F, 3) faces."""
+    g = globoid
+    ell = np.linspace(top, floor, along)
+    u = np.linspace(1.0, -1.0, across)
+    # the section: flank + (u = 1) from top to floor, the floor, flank − back, the top
+    loop_ell = np.concatenate((ell, np.full(across - 2, floor), ell[::-1],
+                               np.full(across - 2, top)))
+    loop_u = np.concatenate((np.ones(along), u[1:-1], -np.ones(along), u[::-1][1:-1]))
+    psi = g.rest + motion[0][:, None]
+    dpsi = motion[1][:, None]
+    q = g.axis_point(loop_ell[None, :], psi)
+    n = g.normal(loop_ell[None, :], psi, dpsi)
+    frame = q + (g.radius * loop_u)[None, :, None] * n
+    points = to_cam(frame, g.sigma * np.asarray(theta)[:, None])
+    stations, size = points.shape[:2]
+    index = np.arange(stations * size).reshape(stations, size)
+    a = index
+    b = np.roll(index, -1, axis=1)
+    c = np.roll(index, -1, axis=0)
+    d = np.roll(c, -1, axis=1)
+    faces = np.concatenate((np.stack((a, c, b), -1).reshape(-1, 3),
+                            np.stack((b, c, d), -1).reshape(-1, 3)))
+    vertices = points.reshape(-1, 3)
+    if _signed_volume(vertices, faces) < 0.0:
+        faces = faces[:, ::-1]
+    return vertices, faces
+
+
+def _signed_volume(vertices: Array, faces: Array) -> float:
+    """The signed volume (mm³) a closed triangle mesh encloses (positive: normals outward)."""
+    t = vertices[faces]
+    return float(np.einsum("ij,ij->i", t[:, 0], np.cross(t[:, 1], t[:, 2])).sum() / 6.0)
