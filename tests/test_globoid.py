@@ -182,3 +182,35 @@ def test_the_groove_tube_is_one_closed_solid(g: Globoid) -> None:
     centre = to_cam(g.axis_point(np.full(theta.size, g.arm), g.rest + m[0]), g.sigma * theta)
     path = float(np.sum(np.linalg.norm(np.roll(centre, -1, axis=0) - centre, axis=1)))
     assert volume == pytest.approx(area * path, rel=0.05)
+
+
+@pytest.mark.parametrize("g", CASES, ids=IDS)
+def test_the_blank_less_the_groove_is_one_closed_solid_its_stl_reads_back_so(g: Globoid) -> None:
+    import manifold3d
+
+    from camfab.export.stl import binary_stl, check_stl
+    from camfab.geometry.globoid import blank_section, groove_tube
+
+    half = g.length / 2.0
+    inward = 1.0 if g.concave else -1.0
+    surface = g.arm - inward * half  # the roller's outer end at the blank's surface
+    outer = g.centre - surface if g.concave else surface - g.centre
+    width = 1.4 * g.arm * math.sin(math.radians(40.0)) + 2 * g.radius + 10.0
+    if g.concave:
+        width = min(width, 1.9 * (g.centre - outer))
+    section = blank_section(g, outer, width, 5.0)
+    blank = manifold3d.Manifold.revolve(manifold3d.CrossSection([section]), 720)
+    theta = np.linspace(0.0, 2 * math.pi, 721)[:-1]
+    vertices, faces = groove_tube(g, theta, motion(theta), g.arm - inward * (half + 3.0),
+                                  g.arm + inward * (half + 0.5))
+    tube = manifold3d.Manifold(manifold3d.Mesh64(
+        vert_properties=np.ascontiguousarray(vertices, dtype=np.float64),
+        tri_verts=np.ascontiguousarray(faces, dtype=np.uint64)))
+    solid = blank - tube
+    assert solid.status() == manifold3d.Error.NoError
+    removed = float(blank.volume() - solid.volume())
+    assert removed == pytest.approx(float((blank ^ tube).volume()), rel=1e-6)
+    assert 0.0 < removed < float(tube.volume())
+    data = binary_stl(solid)
+    check = check_stl(data, float(solid.volume()), 1e-3 * float(solid.surface_area()))
+    assert check.watertight and check.consistent_winding and check.degenerate_faces == 0

@@ -234,3 +234,24 @@ def _signed_volume(vertices: Array, faces: Array) -> float:
     """The signed volume (mm³) a closed triangle mesh encloses (positive: normals outward)."""
     t = vertices[faces]
     return float(np.einsum("ij,ij->i", t[:, 0], np.cross(t[:, 1], t[:, 2])).sum() / 6.0)
+
+
+def blank_section(globoid: Globoid, outer_radius: float, width: float, bore: float,
+                  points: int = 181) -> Array:
+    """The blank's half-section (mm): (r, z) points of a closed polygon, counter-clockwise,
+    from the bore (radius *bore*, 0 for none) out to the globoid's surface and back, over the
+    width along the axis. The surface is the circle the roller's outer end sweeps about the
+    pivot: an hourglass r(z) = C − √(S² − z²), S = C − *outer_radius* (its waist), for a
+    concave globoid; a barrel r(z) = √(S² − z²) − C, S = C + *outer_radius* (its crown), for a
+    convex one."""
+    c = globoid.centre
+    z = np.linspace(-width / 2.0, width / 2.0, points)
+    if globoid.concave:
+        s = c - outer_radius
+        r = c - np.sqrt(np.maximum(s * s - z * z, 0.0))
+    else:
+        s = c + outer_radius
+        r = np.sqrt(np.maximum(s * s - z * z, 0.0)) - c
+    surface = np.column_stack((r, z))
+    inner = np.array([[bore, width / 2.0], [bore, -width / 2.0]])
+    return np.vstack((surface, inner))
