@@ -255,3 +255,41 @@ def blank_section(globoid: Globoid, outer_radius: float, width: float, bore: flo
     surface = np.column_stack((r, z))
     inner = np.array([[bore, width / 2.0], [bore, -width / 2.0]])
     return np.vstack((surface, inner))
+
+
+@dataclass(frozen=True)
+class RollerRun:
+    """The roller run through a groove read back (mm): at each cam angle, how deep the surface
+    cuts into the roller (the most any surface point near its axis lies inside its radius; 0 or
+    less: clear) and how far the nearest surface point is off the roller's surface (the gap on
+    the nearer flank)."""
+
+    theta: Array
+    cut_mm: Array
+    gap_mm: Array
+
+
+def roller_run(globoid: Globoid, vertices: Array, theta: Array, motion: Array,
+               ells: Array) -> RollerRun:
+    """Put the roller (its wall radius, over distances *ells* along its axis) at its pose for
+    each cam angle of *theta* (their *motion*) against the surface points *vertices* (mm, on
+    the cam, as a read-back mesh gives them): the points within the roller's length of its axis
+    are measured by their distance from the axis line."""
+    g = globoid
+    cuts, gaps = [], []
+    low, high = float(np.min(ells)), float(np.max(ells))
+    for k, t in enumerate(np.asarray(theta, dtype=np.float64)):
+        psi = g.rest + motion[0, k]
+        axis = to_cam(np.array([-math.cos(psi), 0.0, math.sin(psi)]), g.sigma * t)
+        pivot = to_cam(np.array([g.centre, 0.0, 0.0]), g.sigma * t)
+        rel = vertices - pivot
+        along = rel @ axis
+        near = (along >= low) & (along <= high)
+        if not near.any():
+            cuts.append(math.inf)
+            gaps.append(math.inf)
+            continue
+        off = np.linalg.norm(rel[near] - along[near, None] * axis, axis=1)
+        cuts.append(float(g.radius - off.min()))
+        gaps.append(float(off.min() - g.radius))
+    return RollerRun(np.asarray(theta), np.array(cuts), np.array(gaps))
