@@ -86,6 +86,9 @@ class CamTypeSpec:
     #: The keys camfab sizes when the design gives ``auto`` (``section.key``): the radius the
     #: type is sized by, and a translating follower's offset.
     auto_keys: tuple[str, ...] = ()
+    #: The export tolerance (mm) when the design gives none, where the type's own differs from
+    #: the design file's (:data:`camfab.design.model.DEFAULT_TOLERANCE_MM`).
+    default_tolerance: float | None = None
 
     def hint_for(self, follower: str) -> str | None:
         """Why this type refuses the *follower* type, where the list alone does not say."""
@@ -371,6 +374,71 @@ class _Linear(CamTypeSpec):
         return build_program(specs)  # type: ignore[arg-type]
 
 
+class _Globoidal(CamTypeSpec):
+    """The globoidal cam: a groove round a globoid (hourglass or barrel) drives a roller on an
+    oscillating arm whose pivot axis crosses the cam axis at right angles, apart from it
+    (THEORY §H). These rules need no geometry; the kind checks the groove in the blank."""
+
+    def check_follower(self, design: Design) -> None:
+        fol = design.follower
+        if not fol.oscillating:
+            fail(("follower", "motion"), "a globoidal cam drives an oscillating follower (its "
+                 "arm swings about a pivot axis square to the cam axis)", allowed="oscillating")
+        if fol.roller_length is None:
+            fail(("follower", "roller_length"), "required for a globoidal cam (the roller's "
+                 "length along its axis, the arm)", show_got=False)
+
+    def check_fit(self, design: Design, program: MotionProgram) -> None:
+        """The roller on the side of the pivot its globoid puts it, its ends on the arm, the
+        arm's swing short of square to the line of centres, the groove shallower than the
+        roller is long, and a concave globoid's waist outside the cam axis."""
+        cam, fol = design.cam, design.follower
+        c, arm = fol.pivot_distance or 0.0, fol.arm_length or 0.0
+        length = fol.roller_length or 0.0
+        if cam.globoid == "concave" and arm + length / 2.0 >= c:
+            fail(("follower", "arm_length"), f"a concave globoid's roller lies between the pivot "
+                 f"and the cam axis: arm_length + roller_length/2 ({mm(arm + length / 2.0)}) must "
+                 f"be less than pivot_distance ({mm(c)}), or the roller passes the cam axis",
+                 hint="for a roller reaching past the cam axis, give globoid: convex")
+        if cam.globoid == "convex" and arm - length / 2.0 <= c:
+            fail(("follower", "arm_length"), f"a convex globoid's roller lies beyond the cam "
+                 f"axis from the pivot: arm_length − roller_length/2 ({mm(arm - length / 2.0)}) "
+                 f"must be more than pivot_distance ({mm(c)})",
+                 hint="for a roller between the pivot and the cam axis, give globoid: concave")
+        if length / 2.0 >= arm:
+            fail(("follower", "roller_length"), f"puts the roller's end at the pivot or behind "
+                 f"it: half the roller's length must be less than the arm_length ({mm(arm)})")
+        rest = fol.rest_angle if fol.rest_angle is not None else -program.max_lift / 2.0
+        low, high = math.degrees(rest), math.degrees(rest + program.max_lift)
+        if low <= -MAX_GLOBOID_SWING_DEG or high >= MAX_GLOBOID_SWING_DEG:
+            fail(("follower", "rest_angle") if fol.rest_angle is not None else ("motion",),
+                 f"the arm swings from {low:.6g}° to {high:.6g}° about the line of centres; it "
+                 f"must stay within ±{MAX_GLOBOID_SWING_DEG:g}° of it", show_got=False)
+        depth = cam.groove_depth or 0.0
+        if depth >= length:
+            fail(("cam", "groove_depth"), f"must be less than the roller's length "
+                 f"({mm(length)}): the roller's outer end, where the arm holds it, stands "
+                 "outside the blank")
+        if cam.globoid == "concave" and cam.outer_radius is not None and cam.outer_radius >= c:
+            fail(("cam", "outer_radius"), f"a concave globoid's waist lies between the cam "
+                 f"axis and the pivot: it must be less than pivot_distance ({mm(c)})")
+
+    def surface(self, design: Design, program: MotionProgram) -> float:
+        """The pitch globoid at the line of centres: |C − L|."""
+        fol = design.follower
+        return abs((fol.pivot_distance or 0.0) - (fol.arm_length or 0.0))
+
+
+#: The arm of a globoidal cam's follower swings at most this far (deg) either side of the line
+#: of centres: at 90° its roller would lie along the cam axis.
+MAX_GLOBOID_SWING_DEG = 80.0
+
+#: A globoidal cam's export tolerance by default (mm). Its groove is a surface in space, made
+#: from the STL (printed, or milled along it): at 0.001 mm, the design file's default for plate
+#: outlines, its mesh would take some hundred times the facets for accuracy no printer or
+#: 3-axis finish holds; 0.01 mm stays under a printer's layer and a finishing pass's scallop.
+GLOBOID_TOLERANCE_MM = 0.01
+
 #: The facts of the cam types that share them.
 _SHAPED = {"shaped": True, "translating_only": True}
 _POSITIVE_PLATE = {"disc_curves": True, "positive_drive": True}
@@ -404,6 +472,13 @@ CAM_TYPES: dict[str, CamTypeSpec] = {spec.name: spec for spec in (
     _ConstantBreadth("constant-breadth", "camfab.kinds.pair:CONSTANT_BREADTH",
                      (*_TURNING, "base_radius", *_BLANK), ("base_radius",), ("flat", "roller"),
                      translating_only=True, **_POSITIVE_PLATE),
+    _Globoidal("globoidal", "camfab.kinds.globoid",
+               (*_TURNING, "globoid", "groove_depth", "outer_radius", "width", "bore"),
+               ("globoid", "groove_depth"), ("roller",),
+               oscillating_keys=("groove_clearance", "roller_length", "rest_angle"),
+               translating_keys=("groove_clearance", "roller_length", "rest_angle"),
+               positive_drive=True, bore_within=None, keyway_within=None,
+               default_tolerance=GLOBOID_TOLERANCE_MM),
     _Linear("linear", "camfab.kinds.linear", ("type", "speed_rpm", "stroke", "base_height",
                                               "thickness"), ("stroke", "base_height"),
             ("roller", "knife"), span="travel", translating_only=True, bore_within=None,

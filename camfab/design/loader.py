@@ -141,11 +141,25 @@ def _model(data: dict[str, Any], doc: SourceDocument, shaped: _Shaper,
     units = _text(data.get("units"))
     units = units if units in ("mm", "in") else "mm"
     context = {"units": units, "oscillating": oscillating, "sizing": sizing}
+    data = _with_type_tolerance(data, units)
     try:
         return Design.model_validate({**data, "source": doc.file, "sized": sized},
                                      context=context)
     except ValidationError as exc:
         raise _first_error(exc, doc, shaped) from None
+
+
+def _with_type_tolerance(data: dict[str, Any], units: str) -> dict[str, Any]:
+    """*data* with its cam type's own export tolerance where the design gives none
+    (:attr:`~camfab.design.cam_types.CamTypeSpec.default_tolerance`), in the design's
+    *units*."""
+    spec = CAM_TYPES.get(_text(_get(data, "cam", "type")) or "")
+    made = data.get("manufacturing", {})
+    if spec is None or spec.default_tolerance is None or not isinstance(made, dict) \
+            or "tolerance" in made:
+        return data
+    tolerance = spec.default_tolerance / MM_PER_UNIT[units]
+    return {**data, "manufacturing": {**made, "tolerance": tolerance}}
 
 
 def _rule_error(exc: RuleViolation, doc: SourceDocument, shaped: _Shaper) -> DesignError:
@@ -388,7 +402,7 @@ def _follower_keys(spec: CamTypeSpec | None, follower: dict[str, Any]) -> tuple[
         # the type itself is wrong: accept every follower key and let the type error speak
         keys = ["type", "motion", "mass", "offset", "roller_radius", "face_radius", "face_width",
                 "pivot_distance", "arm_length", "pivot_side", "face_offset", "groove_clearance",
-                "roller_spacing", "arm_angle"]
+                "roller_spacing", "arm_angle", "roller_length", "rest_angle"]
     return tuple(keys)
 
 

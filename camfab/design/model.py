@@ -92,6 +92,7 @@ PositiveLength = Annotated[float, _as(U.LENGTH), Field(gt=0)]
 NonNegativeLength = Annotated[float, _as(U.LENGTH), Field(ge=0)]
 PositiveAngle = Annotated[float, _as(U.ANGLE), Field(gt=0)]
 NonNegativeAngle = Annotated[float, _as(U.ANGLE), Field(ge=0)]
+Angle = Annotated[float, _as(U.ANGLE)]
 Lift = Annotated[float, BeforeValidator(_lift), Field(gt=0)]
 
 
@@ -115,7 +116,9 @@ class Cam(Frozen):
     ``nose_radius`` (or ``flank_angle`` for a circular-arc cam; a tangent cam takes either
     ``lift_angle`` or ``nose_radius``), ``top_dwell``, and the plate's keys.
     Groove: a disc's keys with ``groove_depth`` and ``outer_radius``. Conjugate and
-    constant-breadth: a disc's keys. Linear: ``stroke``, ``base_height``, ``thickness``."""
+    constant-breadth: a disc's keys. Linear: ``stroke``, ``base_height``, ``thickness``.
+    Globoidal: ``globoid`` (``concave`` or ``convex``), ``groove_depth``, ``outer_radius`` (at
+    the waist or crown), ``width`` (along the axis), ``bore``."""
 
     type: CamTypeName
     rotation: Literal["ccw", "cw"] = "ccw"
@@ -136,6 +139,8 @@ class Cam(Frozen):
     outer_radius: PositiveLength | None = None
     stroke: PositiveLength | None = None
     base_height: PositiveLength | None = None
+    globoid: Literal["concave", "convex"] | None = None
+    width: PositiveLength | None = None
 
     @property
     def spec(self) -> CamTypeSpec:
@@ -170,6 +175,8 @@ class Follower(Frozen):
     groove_clearance: NonNegativeLength = 0.0
     roller_spacing: PositiveLength | None = None
     arm_angle: PositiveAngle | None = None
+    roller_length: PositiveLength | None = None
+    rest_angle: Angle | None = None
     mass: Annotated[float, _as(U.MASS), Field(gt=0)] | None = None
 
     @field_validator("type", mode="before")

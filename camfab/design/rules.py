@@ -365,7 +365,8 @@ def _check_size(design: Design, max_lift: float) -> None:
     follower)."""
     cam, fol = design.cam, design.follower
     body = max(v or 0.0 for v in (cam.base_radius, cam.radius, cam.length, cam.outer_radius,
-                                  cam.stroke, cam.base_height, fol.roller_spacing))
+                                  cam.stroke, cam.base_height, cam.width,
+                                  fol.roller_spacing))
     lift = max_lift * (fol.arm_length or 0.0) if fol.oscillating else max_lift
     size = body + lift + fol.trace_radius
     tolerance = design.manufacturing.tolerance

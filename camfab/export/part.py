@@ -3,7 +3,7 @@ the contours to show at true size (SVG), and a solid (STL).
 
 A :class:`Drawing` records lines, arcs, circles and text on camfab's layers in the file's units,
 in the order they are drawn; :func:`camfab.export.dxf.render_dxf` writes them in that order. A
-:data:`Solid` is a tree of extrusions, cylinders, meshes and their booleans (mm);
+:data:`Solid` is a tree of extrusions, cylinders, revolutions, meshes and their booleans (mm);
 :func:`camfab.export.stl.render_stl` builds it with manifold3d. The kinds (:mod:`camfab.kinds`)
 describe their parts with these; the writers know formats, not kinds.
 """
@@ -157,6 +157,15 @@ class Cylinder:
 
 
 @dataclass(frozen=True)
+class Revolution:
+    """The region of the closed chain *section* of (N, 2) points (r, z) (mm, r ≥ 0) revolved
+    about Z as a polygon of *segments* sides."""
+
+    section: Array
+    segments: int
+
+
+@dataclass(frozen=True)
 class Mesh:
     """A closed triangle mesh (mm): (V, 3) vertices and (F, 3) faces, outward."""
 
@@ -181,7 +190,7 @@ class Union:
     parts: tuple[Solid, ...]
 
 
-Solid = Extrusion | Cylinder | Mesh | Difference | Union
+Solid = Extrusion | Cylinder | Revolution | Mesh | Difference | Union
 
 
 @dataclass(frozen=True)

@@ -21,7 +21,7 @@ from numpy.typing import NDArray
 from camfab.analysis.verification import StlCheck
 from camfab.arrays import Array, Index, Mask
 from camfab.curves.sampling import arc_points
-from camfab.export.part import Cylinder, Difference, Extrusion, Mesh, Solid
+from camfab.export.part import Cylinder, Difference, Extrusion, Mesh, Revolution, Solid
 
 if TYPE_CHECKING:
     from camfab.geometry.plate import Contours
@@ -175,7 +175,8 @@ def render_stl(solid: Solid) -> StlFile:
 
 def build(solid: Solid, held: list[Any]) -> Any:
     """*solid* as a ``manifold3d.Manifold``: extrusions of even-odd cross-sections, polygonal
-    cylinders, meshes, differences and batch unions, built depth first in the order given.
+    cylinders, revolved sections, meshes, differences and batch unions, built depth first in
+    the order given.
 
     Every solid built on the way is kept in *held* until the caller lets it go: manifold3d
     computes when the mesh is asked for, and folds a boolean whose operands nobody else holds
@@ -194,6 +195,9 @@ def build(solid: Solid, held: list[Any]) -> Any:
                                             circular_segments=solid.segments)
         if solid.z is not None:
             made = made.translate((0.0, 0.0, solid.z))
+    elif isinstance(solid, Revolution):
+        section = manifold3d.CrossSection([np.ascontiguousarray(solid.section)])
+        made = manifold3d.Manifold.revolve(section, circular_segments=solid.segments)
     elif isinstance(solid, Mesh):
         made = manifold3d.Manifold(manifold3d.Mesh64(
             vert_properties=np.ascontiguousarray(solid.vertices, dtype=np.float64),

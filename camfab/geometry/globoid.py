@@ -148,8 +148,17 @@ def undercut_radius(globoid: Globoid, theta: Array, ell: Array, motion: Array,
                     motion_ahead: Array, motion_behind: Array, step: float) -> float:
     """The largest roller radius (mm) with which no flank folds at the cam angles *theta*
     (their motion, and the motion *step* rad ahead and behind) and distances *ell* (both
-    broadcast): the smallest positive root of J(r) = J₀ + J₁r + J₂r² over both flanks, the
-    coefficients from the exact axis point and normal (central differences in θ and ℓ)."""
+    broadcast): the least of :func:`undercut_radii`."""
+    radii = undercut_radii(globoid, theta, ell, motion, motion_ahead, motion_behind, step)
+    return float(np.min(radii)) if radii.size else math.inf
+
+
+def undercut_radii(globoid: Globoid, theta: Array, ell: Array, motion: Array,
+                   motion_ahead: Array, motion_behind: Array, step: float) -> Array:
+    """The largest roller radius (mm) with which neither flank folds, at each point of the
+    broadcast cam angles *theta* and distances *ell* (inf where none folds): the smallest
+    positive root of J(r) = J₀ + J₁r + J₂r² over both flanks, the coefficients from the exact
+    axis point and normal (central differences in θ, *step* rad, and in ℓ)."""
     g = globoid
     theta = np.asarray(theta, dtype=np.float64)
 
@@ -166,16 +175,11 @@ def undercut_radius(globoid: Globoid, theta: Array, ell: Array, motion: Array,
     qe0, ne0 = frames(motion, theta, ell - h)
     q_t, n_t = (qa - qb) / (2 * step), (na - nb) / (2 * step)
     q_l, n_l = (qe1 - qe0) / (2 * h), (ne1 - ne0) / (2 * h)
-    best = math.inf
-    for side in (1, -1):
-        # J(r) = ((q_l + s r n_l) × (q_t + s r n_t))·n0, s the side: J₀ = |a × v| > 0
-        j0 = np.einsum("...i,...i->...", np.cross(q_l, q_t), n0)
-        j1 = side * np.einsum("...i,...i->...", np.cross(n_l, q_t) + np.cross(q_l, n_t), n0)
-        j2 = np.einsum("...i,...i->...", np.cross(n_l, n_t), n0)
-        roots = _smallest_positive_root(j2, j1, j0)
-        if roots.size and np.isfinite(roots).any():
-            best = min(best, float(np.nanmin(roots)))
-    return best
+    # J(r) = ((q_l + s r n_l) × (q_t + s r n_t))·n0, s the side: J₀ = |a × v| > 0
+    j0 = np.einsum("...i,...i->...", np.cross(q_l, q_t), n0)
+    j1 = np.einsum("...i,...i->...", np.cross(n_l, q_t) + np.cross(q_l, n_t), n0)
+    j2 = np.einsum("...i,...i->...", np.cross(n_l, n_t), n0)
+    return np.minimum(_smallest_positive_root(j2, j1, j0), _smallest_positive_root(j2, -j1, j0))
 
 
 def _smallest_positive_root(a: Array, b: Array, c: Array) -> Array:
@@ -195,21 +199,23 @@ def _smallest_positive_root(a: Array, b: Array, c: Array) -> Array:
     return out
 
 
-def groove_tube(globoid: Globoid, theta: Array, motion: Array, top: float, floor: float,
-                across: int = 8, along: int = 8) -> tuple[Array, Array]:
+def groove_tube(globoid: Globoid, theta: Array, motion: Array, rows: Array,
+                across: int = 8) -> tuple[Array, Array]:
     """The groove as one closed tube on the cam (mm): at each cam angle of *theta* (its
     *motion* (4, N), the cycle's stations, the last not repeating the first) the section
-    bounded by the two flanks from the distance *top* along the arm (outside the blank) to
-    *floor* (past the roller's far end), the floor across from one flank to the other, and the
-    top across back; consecutive sections joined by quads split into triangles, wound so that
-    the normals point out of the tube. Returns (V, 3) vertices and (F, 3) faces."""
+    bounded by the two flanks over the distances *rows* along the arm (the first outside the
+    blank, the last the floor, past the roller's far end), the floor across from one flank to
+    the other in *across* steps, and the top across back; consecutive sections joined by quads
+    split into triangles, wound so that the normals point out of the tube. Returns (V, 3)
+    vertices and (F, 3) faces."""
     g = globoid
-    ell = np.linspace(top, floor, along)
-    u = np.linspace(1.0, -1.0, across)
+    ell = np.asarray(rows, dtype=np.float64)
+    top, floor = float(ell[0]), float(ell[-1])
+    u = np.linspace(1.0, -1.0, across + 1)
     # the section: flank + (u = 1) from top to floor, the floor, flank − back, the top
-    loop_ell = np.concatenate((ell, np.full(across - 2, floor), ell[::-1],
-                               np.full(across - 2, top)))
-    loop_u = np.concatenate((np.ones(along), u[1:-1], -np.ones(along), u[::-1][1:-1]))
+    loop_ell = np.concatenate((ell, np.full(across - 1, floor), ell[::-1],
+                               np.full(across - 1, top)))
+    loop_u = np.concatenate((np.ones(ell.size), u[1:-1], -np.ones(ell.size), u[::-1][1:-1]))
     psi = g.rest + motion[0][:, None]
     dpsi = motion[1][:, None]
     q = g.axis_point(loop_ell[None, :], psi)
@@ -236,60 +242,3 @@ def _signed_volume(vertices: Array, faces: Array) -> float:
     return float(np.einsum("ij,ij->i", t[:, 0], np.cross(t[:, 1], t[:, 2])).sum() / 6.0)
 
 
-def blank_section(globoid: Globoid, outer_radius: float, width: float, bore: float,
-                  points: int = 181) -> Array:
-    """The blank's half-section (mm): (r, z) points of a closed polygon, counter-clockwise,
-    from the bore (radius *bore*, 0 for none) out to the globoid's surface and back, over the
-    width along the axis. The surface is the circle the roller's outer end sweeps about the
-    pivot: an hourglass r(z) = C − √(S² − z²), S = C − *outer_radius* (its waist), for a
-    concave globoid; a barrel r(z) = √(S² − z²) − C, S = C + *outer_radius* (its crown), for a
-    convex one."""
-    c = globoid.centre
-    z = np.linspace(-width / 2.0, width / 2.0, points)
-    if globoid.concave:
-        s = c - outer_radius
-        r = c - np.sqrt(np.maximum(s * s - z * z, 0.0))
-    else:
-        s = c + outer_radius
-        r = np.sqrt(np.maximum(s * s - z * z, 0.0)) - c
-    surface = np.column_stack((r, z))
-    inner = np.array([[bore, width / 2.0], [bore, -width / 2.0]])
-    return np.vstack((surface, inner))
-
-
-@dataclass(frozen=True)
-class RollerRun:
-    """The roller run through a groove read back (mm): at each cam angle, how deep the surface
-    cuts into the roller (the most any surface point near its axis lies inside its radius; 0 or
-    less: clear) and how far the nearest surface point is off the roller's surface (the gap on
-    the nearer flank)."""
-
-    theta: Array
-    cut_mm: Array
-    gap_mm: Array
-
-
-def roller_run(globoid: Globoid, vertices: Array, theta: Array, motion: Array,
-               ells: Array) -> RollerRun:
-    """Put the roller (its wall radius, over distances *ells* along its axis) at its pose for
-    each cam angle of *theta* (their *motion*) against the surface points *vertices* (mm, on
-    the cam, as a read-back mesh gives them): the points within the roller's length of its axis
-    are measured by their distance from the axis line."""
-    g = globoid
-    cuts, gaps = [], []
-    low, high = float(np.min(ells)), float(np.max(ells))
-    for k, t in enumerate(np.asarray(theta, dtype=np.float64)):
-        psi = g.rest + motion[0, k]
-        axis = to_cam(np.array([-math.cos(psi), 0.0, math.sin(psi)]), g.sigma * t)
-        pivot = to_cam(np.array([g.centre, 0.0, 0.0]), g.sigma * t)
-        rel = vertices - pivot
-        along = rel @ axis
-        near = (along >= low) & (along <= high)
-        if not near.any():
-            cuts.append(math.inf)
-            gaps.append(math.inf)
-            continue
-        off = np.linalg.norm(rel[near] - along[near, None] * axis, axis=1)
-        cuts.append(float(g.radius - off.min()))
-        gaps.append(float(off.min() - g.radius))
-    return RollerRun(np.asarray(theta), np.array(cuts), np.array(gaps))

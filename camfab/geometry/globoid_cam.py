@@ -1,0 +1,479 @@
+"""A globoidal cam's blank and groove (docs/THEORY.md §H): where the groove lies along the arm,
+the blank's half-section, the groove's tube sampled to the tolerance, the roller's end sweeping
+the floor, the centre path developed, and the roller run through a groove read back.
+
+Distances along the arm are from the pivot (mm). ``inward`` is +1 for a concave globoid (the
+roller reaches from the pivot toward the cam axis: the cam's inside lies farther from the pivot)
+and −1 for a convex one (the cam's inside lies nearer the pivot). The blank's surface is the
+circle of radius ``surface`` about the pivot in every plane through the cam axis, revolved; the
+groove runs from it ``depth`` inward to its floor.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from camfab.arrays import Array
+from camfab.geometry.globoid import Globoid, groove_tube, to_cam
+from camfab.motion.program import cycle_angles
+
+if TYPE_CHECKING:
+    from camfab.curves.profile import Profile
+    from camfab.design import Design
+    from camfab.motion.program import MotionProgram
+
+#: Cam-angle step of the analysis' dense grid (rad), as for the drum.
+ANALYSIS_STEP = math.radians(0.05)
+#: Distances along the roller's contact line at which the analysis measures (count).
+ANALYSIS_ROWS = 9
+#: How far the floor stands past the farthest reach of the roller's end face (mm): a running
+#: clearance, so that the floor never touches the roller.
+FLOOR_GAP_MM = 0.5
+#: How far outside the blank the groove's tube reaches (mm, at least), so that the subtraction
+#: cuts cleanly through the blank's surface instead of grazing it.
+TOP_MARGIN_MM = 1.0
+#: Largest step of cam angle between the tube's stations (rad), however straight it runs.
+MAX_STATION_STEP = math.radians(1.0)
+#: Cam-angle step at which the roller is run through the groove read back (rad).
+VERIFY_STEP = math.radians(0.5)
+
+
+@dataclass(frozen=True)
+class GloboidCam:
+    """A globoidal cam: the follower's geometry (:class:`Globoid`) and the blank's (mm)."""
+
+    follower: Globoid
+    inward: float
+    surface: float
+    depth: float
+    width: float
+    bore: float
+
+    @property
+    def floor(self) -> float:
+        """The groove's floor: its distance from the pivot along the arm (mm)."""
+        return self.surface + self.inward * self.depth
+
+    @property
+    def outer_radius(self) -> float:
+        """The blank's radius at its waist (concave) or crown (convex) (mm)."""
+        return abs(self.follower.centre - self.surface)
+
+    @property
+    def roller_outer(self) -> float:
+        """The roller's end the arm holds: its distance from the pivot (mm)."""
+        g = self.follower
+        return g.arm - self.inward * g.length / 2.0
+
+    @property
+    def roller_inner(self) -> float:
+        """The roller's end inside the groove: its distance from the pivot (mm)."""
+        g = self.follower
+        return g.arm + self.inward * g.length / 2.0
+
+    def contact(self, count: int = ANALYSIS_ROWS) -> Array:
+        """*count* distances from the pivot (mm) along the roller inside the groove: from the
+        blank's surface (or the roller's outer end, if inside it) to its inner end."""
+        start = self.surface if self.inward * (self.surface - self.roller_outer) > 0 else \
+            self.roller_outer
+        return np.linspace(start, self.roller_inner, count)
+
+    def radius_at(self, ell: Array, psi: Array) -> Array:
+        """The distance (mm) from the cam axis of the roller axis' point *ell* from the pivot
+        with the arm at *psi*: |C − ℓ cos ψ|."""
+        return np.abs(self.follower.centre - ell * np.cos(psi))
+
+    def ends_radius(self) -> float:
+        """The blank's radius at its end faces (mm), z = ±width/2."""
+        c, s, half = self.follower.centre, self.surface, self.width / 2.0
+        root = math.sqrt(max(s * s - half * half, 0.0))
+        return c - root if self.inward > 0 else root - c
+
+    def section(self) -> Profile:
+        """The blank's half-section in (r, z) (mm), counter-clockwise: the end face at
+        z = −width/2, the surface (an exact arc about the pivot: at r = C for a concave
+        globoid, at r = −C, mirrored, for a convex one), the end face at +width/2, and the bore
+        (or the axis)."""
+        from camfab.curves.profile import Profile
+
+        half = self.width / 2.0
+        end = self.ends_radius()
+        # the arc from (end, −half) up to (end, +half): about (C, 0) clockwise through the
+        # waist (concave), about (−C, 0) counter-clockwise through the crown (convex)
+        sweep = -self.inward * 2.0 * math.asin(min(1.0, half / self.surface))
+        vertices = np.array([[self.bore, -half], [end, -half], [end, half], [self.bore, half]])
+        bulges = np.array([0.0, math.tan(sweep / 4.0), 0.0, 0.0])
+        return Profile(vertices, bulges)
+
+    def tube_rows(self) -> tuple[float, float]:
+        """The tube's top (outside the blank) and floor, along the arm (mm)."""
+        g = self.follower
+        margin = TOP_MARGIN_MM + g.radius * g.radius / self.surface
+        return self.surface - self.inward * margin, self.floor
+
+
+def globoid_cam(design: Design, program: MotionProgram) -> GloboidCam:
+    """The globoidal cam of *design* (validated): its blank's size as given or by default
+    (:func:`default_blank`)."""
+    cam, fol = design.cam, design.follower
+    follower = follower_of(design, program)
+    inward = 1.0 if cam.globoid == "concave" else -1.0
+    depth = cam.groove_depth or 0.0
+    bore = (cam.bore or 0.0) / 2.0
+    surface = (follower.centre - inward * cam.outer_radius if cam.outer_radius is not None
+               else default_surface(follower, inward, depth, program))
+    blank = GloboidCam(follower, inward, surface, depth, 0.0, bore)
+    width = cam.width if cam.width is not None else default_width(blank, program)
+    assert fol.roller_radius is not None
+    return GloboidCam(follower, inward, surface, depth, width, bore)
+
+
+def follower_of(design: Design, program: MotionProgram) -> Globoid:
+    """The follower of *design* as a :class:`Globoid` (the wall's radius: the roller's and half
+    the clearance; ψ₀ as given, or minus half the largest swing)."""
+    cam, fol = design.cam, design.follower
+    assert fol.pivot_distance is not None and fol.arm_length is not None
+    assert fol.roller_length is not None and fol.roller_radius is not None
+    rest = fol.rest_angle if fol.rest_angle is not None else -program.max_lift / 2.0
+    return Globoid(fol.pivot_distance, fol.arm_length, fol.roller_length,
+                   fol.roller_radius + fol.groove_clearance / 2.0, rest, cam.sigma)
+
+
+def default_surface(g: Globoid, inward: float, depth: float, program: MotionProgram) -> float:
+    """The blank's surface (mm from the pivot) that puts the groove's floor
+    :data:`FLOOR_GAP_MM` past the farthest reach of the roller's end face."""
+    inner = g.arm + inward * g.length / 2.0
+    floor = inner + inward * (end_reach(g, inner, program) + FLOOR_GAP_MM)
+    return floor - inward * depth
+
+
+def default_width(blank: GloboidCam, program: MotionProgram) -> float:
+    """The blank's width along its axis (mm): the groove's extent, with a wall of the roller's
+    radius beyond it at each end (at least 3 mm)."""
+    _, _, z = groove_extent(blank, program)
+    return 2.0 * (z + max(blank.follower.radius, 3.0))
+
+
+def groove_extent(blank: GloboidCam, program: MotionProgram) -> tuple[float, float, float]:
+    """The groove inside the blank (mm): the least distance of its floor from the cam axis,
+    the least distance of a flank point from it (the floor's corners), and the largest |z| of
+    any point of its flanks between the blank's surface and its floor."""
+    g = blank.follower
+    _, _, m = program.segment_grid(ANALYSIS_STEP * 4)
+    psi, dpsi = g.rest + m[0], m[1]
+    ell = np.linspace(blank.surface, blank.floor, 5)[:, None]
+    floor_r = blank.radius_at(np.asarray(blank.floor), psi)
+    z = []
+    corner = np.inf
+    for side in (1.0, -1.0):
+        p = g.axis_point(ell, psi) + side * g.radius * g.normal(ell, psi, dpsi)
+        z.append(float(np.max(np.abs(p[..., 2]))))
+        corner = min(corner, float(np.min(np.hypot(p[-1, :, 0], p[-1, :, 1]))))
+    return float(np.min(floor_r)), corner, max(z)
+
+
+def end_reach(g: Globoid, inner: float, program: MotionProgram) -> float:
+    """How far past the roller's inner end *inner* (mm from the pivot) its end face reaches
+    the groove's sections at other cam angles (mm, along the arm): the tube's sections are
+    strips across the flanks at each cam angle, and as the arm tilts the end face's rim lies on
+    the sections of nearby angles beyond the end. The floor must stand past this.
+
+    Each point of the rim (and of a ring at half its radius), fixed on the cam at the pose
+    θ, is followed to the cam angle θ′ at which it lies in that section's plane (a, n) by the
+    secant method, where its distance along the arm is read."""
+    theta = np.linspace(0.0, 2 * math.pi, 721)[:-1]
+    beta = np.linspace(0.0, 2 * math.pi, 25)[:-1]
+    m = program.evaluate(theta)
+    psi = g.rest + m[0]
+    a = np.stack((-np.cos(psi), np.zeros_like(psi), np.sin(psi)), axis=-1)
+    n = g.normal(np.full(theta.size, inner), psi, m[1])
+    b = np.cross(a, n)
+    q = g.axis_point(np.full(theta.size, inner), psi)
+    reach = 0.0
+    inward = 1.0 if g.concave else -1.0
+    for share in (1.0, 0.5):
+        ring = (np.cos(beta)[None, :, None] * n[:, None, :]
+                + np.sin(beta)[None, :, None] * b[:, None, :])
+        x = to_cam(q[:, None, :] + share * g.radius * ring, g.sigma * theta[:, None])
+        t0 = np.broadcast_to(theta[:, None], x.shape[:2])
+
+        def off(t: Array, x: Array = x) -> tuple[Array, Array]:
+            """The point's distance from the plane (a, n) at cam angle t, and along the arm."""
+            flat = program.evaluate(t.ravel()).reshape(4, *t.shape)
+            p = to_cam(x, -g.sigma * t)  # the point in the frame at t
+            ps = g.rest + flat[0]
+            axis = np.stack((-np.cos(ps), np.zeros_like(ps), np.sin(ps)), axis=-1)
+            rel = p - np.array([g.centre, 0.0, 0.0])
+            along = np.einsum("...i,...i->...", rel, axis)
+            normal = g.normal(along, ps, flat[1])
+            return np.einsum("...i,...i->...", rel, np.cross(axis, normal)), along
+
+        lo, hi = t0 - 0.02, t0 + 0.02
+        f_lo, _ = off(lo)
+        f_hi, _ = off(hi)
+        for _ in range(30):
+            with np.errstate(divide="ignore", invalid="ignore"):
+                t = np.where(np.abs(f_hi - f_lo) > 1e-15,
+                             hi - f_hi * (hi - lo) / (f_hi - f_lo), hi)
+            t = np.clip(t, t0 - 0.5, t0 + 0.5)
+            f_t, along = off(t)
+            lo, f_lo, hi, f_hi = hi, f_hi, t, f_t
+            if float(np.max(np.abs(f_t))) < 1e-9:
+                break
+        _, along = off(hi)
+        reach = max(reach, float(np.max(inward * (along - inner))))
+    return max(reach, 0.0)
+
+
+def stations(blank: GloboidCam, program: MotionProgram, rows: Array, tolerance: float) -> Array:
+    """Cam angles (rad, one turn, every segment's start included) at which the tube's chords
+    along both flanks, on every row of *rows* (mm from the pivot), stay within *tolerance*
+    (mm) of the exact flanks: placed by the chord error c²/(8ρ) of each row's path on the cam,
+    then every chord measured at its middle and the stations halved where one strays."""
+    g = blank.follower
+    even = cycle_angles(ANALYSIS_STEP)  # evenly spaced, for the differences
+    m = program.evaluate(even)
+    density = np.zeros(even.size)
+    ell = np.asarray(rows)[:, None]
+    step = float(even[1] - even[0])
+    for side in (1, -1):
+        p = g.flank(even[None, :], ell, m[:, None, :], side)
+        ahead, behind = np.roll(p, -1, axis=1), np.roll(p, 1, axis=1)
+        d1 = (ahead - behind) / (2 * step)
+        d2 = (ahead - 2 * p + behind) / (step * step)
+        speed = np.linalg.norm(d1, axis=-1)
+        bend = np.linalg.norm(np.cross(d1, d2), axis=-1) / np.maximum(speed, 1e-12) ** 3
+        # a chord Δθ long strays (speed·Δθ)²·bend/8: the stations a radian needs
+        need = speed * np.sqrt(np.maximum(bend, 0.0) / (8.0 * tolerance))
+        density = np.maximum(density, need.max(axis=0))
+    segment, theta, _ = program.segment_grid(ANALYSIS_STEP)
+    density = np.interp(theta, even, density, period=2 * math.pi)
+    density = np.maximum(density, 1.0 / MAX_STATION_STEP)
+    out = []
+    for seg in program.segments:
+        mine = segment == seg.index
+        t, rate = theta[mine], density[mine]
+        cumulative = np.concatenate(([0.0], np.cumsum(0.5 * (rate[1:] + rate[:-1])
+                                                      * np.diff(t))))
+        count = max(2, math.ceil(cumulative[-1]))
+        out.append(np.interp(np.linspace(0.0, cumulative[-1], count + 1), cumulative, t)[:-1])
+    placed = np.concatenate(out)
+    for _ in range(8):  # halve the chords that stray
+        ahead = np.append(placed[1:], placed[0] + 2 * math.pi)
+        middle = 0.5 * (placed + ahead)
+        worst = np.zeros(placed.size)
+        for side in (1, -1):
+            a = g.flank(placed[None, :], ell, program.evaluate(placed)[:, None, :], side)
+            c = g.flank(ahead[None, :], ell, program.evaluate(ahead)[:, None, :], side)
+            mid = g.flank(middle[None, :], ell, program.evaluate(middle)[:, None, :], side)
+            worst = np.maximum(worst, _chord_miss(mid, a, c).max(axis=0))
+        stray = worst > tolerance
+        if not stray.any():
+            break
+        placed = np.sort(np.concatenate((placed, np.mod(middle[stray], 2 * math.pi))))
+    return placed
+
+
+def _chord_miss(points: Array, start: Array, end: Array) -> Array:
+    """Distance (mm) of each of *points* (..., 3) from the segment *start*–*end*."""
+    d = end - start
+    rel = points - start
+    length2 = np.einsum("...i,...i->...", d, d)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = np.clip(np.where(length2 > 0, np.einsum("...i,...i->...", rel, d) / length2, 0.0),
+                    0.0, 1.0)
+    return np.linalg.norm(rel - t[..., None] * d, axis=-1)
+
+
+def tube_rows(blank: GloboidCam, program: MotionProgram, tolerance: float) -> Array:
+    """Distances from the pivot (mm) of the tube's rows, from its top outside the blank to the
+    floor: as many equal steps as keep the straight pieces between rows within *tolerance*
+    (mm) of the exact flanks at every cam angle."""
+    g = blank.follower
+    top, floor = blank.tube_rows()
+    _, _, m = program.segment_grid(ANALYSIS_STEP * 4)
+    count = 2
+    while True:
+        rows = np.linspace(top, floor, count + 1)
+        worst = 0.0
+        for side in (1, -1):
+            p = g.flank(0.0, rows[:, None], m[:, None, :], side)
+            mid = g.flank(0.0, 0.5 * (rows[1:] + rows[:-1])[:, None], m[:, None, :], side)
+            worst = max(worst, float(np.max(_chord_miss(mid, p[:-1], p[1:]))))
+        if worst <= tolerance or count >= 256:
+            return rows
+        count *= 2
+
+
+@dataclass(frozen=True)
+class Tube:
+    """The groove's closed tube (mm): (V, 3) vertices, (F, 3) faces (outward), the stations'
+    cam angles (rad) and the rows' distances from the pivot."""
+
+    vertices: Array
+    faces: Array
+    stations: Array
+    rows: Array
+
+
+def tube(blank: GloboidCam, program: MotionProgram, tolerance: float) -> Tube:
+    """The groove as one closed tube whose flanks stay within *tolerance* (mm) of the exact
+    ones, its floor across in chords within it too.
+
+    The rows and stations hold each row's and each section's chords to the tolerance; a quad
+    between them is not flat (the flank twists: its points move at speeds that differ along the
+    arm), and its two triangles meet along a diagonal whose middle strays from the flank by
+    about |∂²P/∂θ∂ℓ|·Δθ·Δℓ/4, so the rows are doubled until no diagonal strays further."""
+    g = blank.follower
+    rows = tube_rows(blank, program, tolerance)
+    theta = stations(blank, program, rows, tolerance)
+    m = program.evaluate(theta)
+    ahead = np.append(theta[1:], theta[0] + 2 * math.pi)
+    middle = 0.5 * (theta + ahead)
+    m_ahead, m_mid = program.evaluate(ahead), program.evaluate(middle)
+    while rows.size < 257:
+        mid_rows = 0.5 * (rows[1:] + rows[:-1])[:, None]
+        worst = 0.0
+        for side in (1, -1):
+            # the diagonal from (θₖ, ℓⱼ₊₁) to (θₖ₊₁, ℓⱼ) against the flank at the quad's middle
+            a = g.flank(theta[None, :], rows[1:, None], m[:, None, :], side)
+            c = g.flank(ahead[None, :], rows[:-1, None], m_ahead[:, None, :], side)
+            mid = g.flank(middle[None, :], mid_rows, m_mid[:, None, :], side)
+            worst = max(worst, float(np.max(np.linalg.norm(0.5 * (a + c) - mid, axis=-1))))
+        if worst <= tolerance:
+            break
+        rows = np.linspace(rows[0], rows[-1], 2 * rows.size - 1)
+    across = max(2, math.ceil(2 * g.radius / max(math.sqrt(8.0 * tolerance * g.radius), 1e-6)))
+    across = min(across, 64)
+    vertices, faces = groove_tube(g, theta, m, rows, across)
+    return Tube(vertices, faces, theta, rows)
+
+
+@dataclass(frozen=True)
+class Development:
+    """The groove's centre path developed on the pitch globoid (mm): around, the cam angle
+    times the pitch globoid's radius at the line of centres (|C − L|); up, the arc along the
+    pitch circle about the pivot (L·ψ)."""
+
+    centre: Array
+    width: float
+    low: float
+    high: float
+
+
+def development(blank: GloboidCam, program: MotionProgram, step: float) -> Development:
+    """The centre path developed (see :class:`Development`) at cam angles *step* apart (rad)
+    and at every segment's ends."""
+    g = blank.follower
+    _, theta, m = program.segment_grid(step)
+    radius = abs(g.centre - g.arm)
+    psi = g.rest + m[0]
+    centre = np.column_stack((radius * theta, g.arm * psi))
+    return Development(centre, radius * 2 * math.pi, float(g.arm * (g.rest)),
+                       float(g.arm * (g.rest + program.max_lift)))
+
+
+@dataclass(frozen=True)
+class RollerRun:
+    """The roller run through a groove read back (mm), at each cam angle: how deep the surface
+    cuts into the roller's wall radius (0 or less: clear) and how far the nearest surface point
+    on each side of the roller stands off it (the gap on the + and − flank)."""
+
+    theta: Array
+    cut_mm: Array
+    gap_plus_mm: Array
+    gap_minus_mm: Array
+
+
+def roller_run(blank: GloboidCam, edges: Array, theta: Array, motion: Array) -> RollerRun:
+    """Put the roller (the wall's radius, over its length inside the groove) at its pose for
+    each cam angle of *theta* (their *motion*) against the surface's *edges* ((E, 2, 3), mm,
+    on the cam, as a read-back mesh gives them): each edge's point nearest the roller's axis
+    line, in closed form, is measured by its distance from it where it lies beside the
+    roller's length, those on either side of the plane (a, a × n) apart (the flank on the +
+    side of n and on the −). The nearest point of a flat facet to a line that does not pierce
+    it lies on its edges, so the edges measure the facets."""
+    g = blank.follower
+    ends = blank.contact(2)
+    low, high = float(np.min(ends)), float(np.max(ends))
+    start, step = edges[:, 0], edges[:, 1] - edges[:, 0]
+    middle_xy = start + 0.5 * step
+    polar = np.arctan2(middle_xy[:, 1], middle_xy[:, 0])
+    order = np.argsort(polar, kind="stable")
+    polar, start, step = polar[order], start[order], step[order]
+    half_edge = 0.5 * float(np.max(np.linalg.norm(step, axis=1), initial=0.0))
+    # the angular window about the roller's middle holding every edge near it
+    middle = 0.5 * (low + high)
+    psi_all = g.rest + motion[0]
+    r_min = float(np.min(blank.radius_at(np.asarray([low, high])[:, None], psi_all[None, :])))
+    reach = g.radius * 1.5 + 1.0 + half_edge
+    window = math.pi if r_min <= reach else math.asin(reach / r_min) + 0.02
+    cut, gap_p, gap_m = (np.full(theta.size, np.inf) for _ in range(3))
+    for k, t in enumerate(np.asarray(theta, dtype=np.float64)):
+        psi, dpsi = g.rest + motion[0, k], motion[1, k]
+        axis = to_cam(np.array([-math.cos(psi), 0.0, math.sin(psi)]), g.sigma * t)
+        pivot = to_cam(np.array([g.centre, 0.0, 0.0]), g.sigma * t)
+        mid = to_cam(g.axis_point(np.asarray(middle), np.asarray(psi)), g.sigma * t)
+        pick = _window(polar, math.atan2(float(mid[1]), float(mid[0])), window)
+        a, e = start[pick] - pivot, step[pick]
+        # across the axis: a⊥ + s·e⊥, nearest at s = −a⊥·e⊥/|e⊥|², kept on the edge
+        a_across = a - np.outer(a @ axis, axis)
+        e_across = e - np.outer(e @ axis, axis)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            s = -np.einsum("ij,ij->i", a_across, e_across) / np.einsum("ij,ij->i", e_across,
+                                                                        e_across)
+        s = np.clip(np.nan_to_num(s, nan=0.0), 0.0, 1.0)
+        radial = a_across + s[:, None] * e_across
+        along = (a + s[:, None] * e) @ axis
+        near = (along >= low) & (along <= high)
+        if not near.any():
+            continue
+        radial = radial[near]
+        off = np.linalg.norm(radial, axis=1)
+        n = to_cam(g.normal(np.asarray(middle), np.asarray(psi), np.asarray(dpsi)), g.sigma * t)
+        side = radial @ n
+        cut[k] = float(g.radius - off.min())
+        plus, minus = off[side > 0], off[side < 0]
+        gap_p[k] = float(plus.min() - g.radius) if plus.size else np.inf
+        gap_m[k] = float(minus.min() - g.radius) if minus.size else np.inf
+    return RollerRun(np.asarray(theta), cut, gap_p, gap_m)
+
+
+def _window(polar: Array, at: float, half: float) -> Array:
+    """Indices of the sorted angles *polar* (rad, −π..π) within *half* of *at*, across ±π."""
+    if half >= math.pi:
+        return np.arange(polar.size)
+    lo = (at - half + math.pi) % (2 * math.pi) - math.pi
+    hi = (at + half + math.pi) % (2 * math.pi) - math.pi
+    i, j = np.searchsorted(polar, [lo, hi])
+    if lo <= hi:
+        return np.arange(i, j)
+    return np.concatenate((np.arange(i, polar.size), np.arange(0, j)))
+
+
+def near_roller(blank: GloboidCam, points: Array) -> Array:
+    """Which of *points* (mm, on the cam) the roller can come near at some pose: within its
+    radius (and 1 mm) of the stretch of the pivot's circles its contact line sweeps, judged in
+    each point's plane through the cam axis (its distance from the pivot there, and its angle
+    about the pivot within the arm's swing)."""
+    g = blank.follower
+    ends = blank.contact(2)
+    r = np.hypot(points[:, 0], points[:, 1])
+    x = g.centre - r if blank.inward > 0 else g.centre + r
+    d = np.hypot(x, points[:, 2])
+    margin = g.radius + 1.0
+    inside = (d >= float(np.min(ends)) - margin) & (d <= float(np.max(ends)) + margin)
+    return inside
+
+
+def mesh_edges(vertices: Array, faces: Array, keep: Array | None = None) -> Array:
+    """The mesh's edges, each once, as (E, 2, 3) end points (mm): of those with an end among
+    the vertices *keep* (a mask; all by default)."""
+    edges = np.unique(np.sort(faces[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1), axis=0)
+    if keep is not None:
+        edges = edges[keep[edges[:, 0]] | keep[edges[:, 1]]]
+    return vertices[edges]

@@ -1,0 +1,391 @@
+"""The globoidal cam: a groove round a globoid blank (hourglass or barrel) drives a roller on
+an oscillating arm whose pivot axis crosses the cam axis square, apart from it (THEORY §H).
+
+Its STL is the blank revolved less the groove swept as one closed tube; the DXF is the blank's
+half-section for the lathe, with the groove's centre path developed on the pitch globoid. Both
+are read back: the roller is put at its pose in the groove of the STL at every half degree,
+and the section of the DXF is measured against the exact one.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from camfab.analysis.record import TABLE_COLUMNS, Analysis, CamResult, terse
+from camfab.analysis.verification import Verification
+
+if TYPE_CHECKING:
+    from camfab.analysis.findings import Finding
+    from camfab.analysis.globoid_checks import GloboidDense, GloboidNumbers
+    from camfab.analysis.kinematics import MotionUnits, SegmentStats
+    from camfab.arrays import Array
+    from camfab.design import Design
+    from camfab.export.part import Drawing, Part
+    from camfab.export.serialise import PartFiles
+    from camfab.geometry.globoid_cam import GloboidCam
+    from camfab.motion.program import MotionProgram
+
+
+@dataclass(frozen=True)
+class GloboidResult(CamResult):
+    """A globoidal cam's groove on the analysis grid and its key numbers (mm, deg)."""
+
+    globoid: GloboidDense
+    numbers: GloboidNumbers
+    drawing_title = "The cam in section through its axis, the arm swinging"
+
+    def kind_name(self, design: Design) -> str:
+        return f"globoidal cam ({design.cam.globoid})"
+
+    def report_geometry(self, analysis: Analysis) -> dict[str, Any]:
+        design = analysis.design
+        blank, numbers = self.globoid.blank, self.numbers
+        g = blank.follower
+        return {
+            "globoid": design.cam.globoid,
+            "pivot_distance_mm": g.centre, "arm_length_mm": g.arm,
+            "roller_radius_mm": design.follower.roller_radius,
+            "roller_length_mm": g.length,
+            "rest_angle_deg": math.degrees(g.rest),
+            "swing_deg": math.degrees(analysis.program.max_lift),
+            "outer_radius_mm": blank.outer_radius, "width_mm": blank.width,
+            "groove_depth_mm": blank.depth,
+            "surface_from_pivot_mm": blank.surface, "floor_from_pivot_mm": blank.floor,
+            "groove_width_mm": 2 * g.radius,
+            "bore_radius_mm": blank.bore or None,
+            "floor_min_radius_mm": numbers.floor_radius,
+            "groove_reach_z_mm": numbers.reach_z,
+            "end_wall_mm": numbers.end_wall,
+            "pressure_angle_max_deg": numbers.pressure.value,
+            "pressure_angle_max_at_deg": numbers.pressure.at_deg,
+            "pressure_angle_max_from_pivot_mm": numbers.pressure_at_mm,
+            "pressure_angle_limit_deg": math.degrees(design.pressure_angle_limit),
+            "undercut_roller_radius_mm": (numbers.undercut_radius
+                                          if math.isfinite(numbers.undercut_radius) else None),
+        }
+
+    def table_columns(self, theta: Array, motion: Array) -> list[tuple[str, Array]]:
+        """The largest pressure angle along the roller's contact line; no radius of curvature
+        (the flanks are surfaces: their limit is the undercut check's)."""
+        blank = self.globoid.blank
+        g = blank.follower
+        ells = blank.contact()[:, None]
+        phi = np.degrees(g.pressure_angle(ells, g.rest + motion[0][None, :],
+                                          motion[1][None, :])).max(axis=0)
+        empty = np.full(theta.size, np.nan)
+        return list(zip(TABLE_COLUMNS, (phi, empty, empty), strict=True))
+
+    def summary(self, analysis: Analysis) -> list[str]:
+        blank, numbers = self.globoid.blank, self.numbers
+        shape = "waist" if blank.inward > 0 else "crown"
+        return [f"globoid ({analysis.design.cam.globoid}): {terse(blank.outer_radius)} mm at "
+                f"its {shape}, {terse(blank.width)} mm wide, groove {terse(blank.depth)} mm "
+                f"deep; pressure angle up to {terse(numbers.pressure.value)}° along the "
+                f"roller; flanks fold at a roller of {terse(numbers.undercut_radius)} mm"]
+
+    def pressure_panels(self, analysis: Analysis, top: Any, bottom: Any) -> None:
+        """The pressure angle at the roller's two ends in the groove (and the largest along
+        it); the largest roller the flanks take without folding, against the roller's."""
+        from camfab.export.figures import BAD, PITCH, bands, clip_radii, thin
+
+        dense = self.globoid
+        phi = np.degrees(np.abs(dense.pressure_angle))
+        theta, outer, inner, limit = thin(np.degrees(dense.theta), phi[0], phi[-1],
+                                          dense.undercut_radius)
+        top.plot(theta, inner, color=PITCH, linewidth=1.0,
+                 label=f"α at the roller's inner end ({dense.ells[-1]:.4g} mm from the pivot)")
+        top.plot(theta, outer, linewidth=1.0, linestyle="--",
+                 label=f"α at the blank's surface ({dense.ells[0]:.4g} mm)")
+        bands(top, dense.theta, phi.max(axis=0) > math.degrees(
+            analysis.design.pressure_angle_limit), "over the limit")
+        bottom.plot(theta, clip_radii(limit), color=PITCH, linewidth=1.0,
+                    label="largest roller the flanks take")
+        wall = dense.blank.follower.radius
+        bottom.axhline(wall, color=BAD, linewidth=0.8, linestyle="--",
+                       label=f"roller {wall:.4g} mm")
+        bands(bottom, dense.theta, dense.undercut_radius <= wall, "undercut")
+
+    def drawing(self, analysis: Analysis) -> str:
+        return _drawing_svg(analysis, self.globoid.blank)
+
+
+def _drawing_svg(analysis: Analysis, blank: GloboidCam) -> str:
+    """The cam cut through its axis and the pivot (the plane of the arm): the blank's section
+    both sides of the axis, the groove's reach over the swing, the pivot, the pitch circle,
+    and the arm with its roller (group ``follower``), which carries the animation's frames:
+    it swings about the pivot as the motion table says."""
+    from camfab.export.chart import Figure
+    from camfab.export.figures import (
+        CUT,
+        FOLLOWER,
+        LEGEND_FONT,
+        PITCH,
+        REFERENCE,
+        frame_angles,
+        group_points,
+        rotations,
+        scale_bar,
+        turned,
+    )
+
+    design, program = analysis.design, analysis.program
+    g = blank.follower
+    fig = Figure(9.0, 6.6, "drawing", left=0.09, right=0.66, bottom=0.08, top=0.94)
+    [ax] = fig.subplots()
+    ax.set_aspect("equal")
+    section = blank.section().points(max(1e-3, 0.002 * blank.width))
+    for sign, label in ((1.0, "the blank in section"), (-1.0, None)):
+        loop = np.vstack((section, section[:1]))
+        ax.plot(sign * loop[:, 0], loop[:, 1], color=CUT, linewidth=1.2, label=label)
+    reach = max(float(np.max(section[:, 0])), g.centre, 1e-9)
+    ax.plot([0.0, 0.0], [-0.6 * blank.width, 0.6 * blank.width], color="#555555",
+            linewidth=0.8, linestyle="-.", label="cam axis")
+    # the groove's reach over the swing: between the surface and the floor about the pivot
+    psi = g.rest + np.linspace(0.0, program.max_lift, 61)
+    band = np.concatenate((blank.surface * np.column_stack((-np.cos(psi), np.sin(psi))),
+                           blank.floor * np.column_stack((-np.cos(psi), np.sin(psi)))[::-1]))
+    band = np.vstack((band, band[:1])) + np.array([g.centre, 0.0])
+    ax.plot(band[:, 0], band[:, 1], color=REFERENCE, linewidth=0.8,
+            label="the groove over the swing")
+    arc = g.rest + np.linspace(-0.15, program.max_lift + 0.15, 61)
+    ax.plot(g.centre - g.arm * np.cos(arc), g.arm * np.sin(arc), color=PITCH, linewidth=0.8,
+            linestyle="--", label="pitch circle")
+    ax.plot([g.centre], [0.0], "+", color="black", markersize=10)
+    with ax.group("follower"):
+        a = np.array([-math.cos(g.rest), math.sin(g.rest)])
+        side = np.array([a[1], -a[0]])
+        pivot = np.array([g.centre, 0.0])
+        outer, inner = pivot + blank.roller_outer * a, pivot + blank.roller_inner * a
+        r = design.follower.roller_radius or 0.0
+        corners = np.array([outer + r * side, inner + r * side, inner - r * side,
+                            outer - r * side, outer + r * side])
+        ax.plot([pivot[0], outer[0]], [pivot[1], outer[1]], color=FOLLOWER, linewidth=2.0,
+                label="arm")
+        ax.plot(corners[:, 0], corners[:, 1], color=FOLLOWER, linewidth=1.5, label="roller")
+        ax.plot([pivot[0]], [pivot[1]], "o", color=FOLLOWER, markersize=4)
+    theta = frame_angles(design.table_step)
+    s = program.evaluate(theta)[0]
+    move = -(s - s[0])  # ψ grows clockwise in this view (toward +z from the line of centres)
+    moving = group_points(ax, "follower")
+    ends = move[[int(np.argmin(move)), int(np.argmax(move))]]
+    ax.include(*turned(moving, pivot, ends).T)
+    ax.include([-reach, reach], [0.0, 0.0])
+    scale_bar(ax, 2.0 * reach, design.units, 1.0 / design.mm_per_unit)
+    ox, oy, kx, ky = ax.to_frame()
+    ax.animate("follower", rotations(move, (ox + kx * pivot[0], oy - ky * pivot[1])))
+    ax.set_title(f"{design.name}: globoidal cam ({design.cam.globoid}) cut through its axis "
+                 "and the pivot", fontsize=10)
+    ax.set_xlabel("x (mm)")
+    ax.set_ylabel("z, the cam axis (mm)")
+    ax.legend(fontsize=LEGEND_FONT, outside_right=True)
+    return fig.svg()
+
+
+class Globoidal:
+    """The globoidal cam (``cam.type: globoidal``)."""
+
+    drives_both_ways = True
+    mounted = "globoid"
+    inspect_refusal = ("is a globoidal cam; inspection checks the outline of a disc cam")
+
+    @staticmethod
+    def check(design: Design) -> None:
+        """The groove in the blank: the floor past the roller's end (and the reach of its end
+        face), the roller's outer end outside the blank, the floor short of the cam axis and
+        the bore, the blank's ends past the groove."""
+        from camfab.geometry.globoid_cam import globoid_cam
+
+        check_blank(design, globoid_cam(design, design.program))
+
+    @staticmethod
+    def analyse(design: Design, program: MotionProgram, units: MotionUnits,
+                stats: list[SegmentStats], findings: list[Finding]) -> Analysis:
+        """The groove's pressure angle, undercut and fit (before *findings*)."""
+        from camfab.analysis.globoid_checks import (
+            globoid_dense,
+            globoid_findings,
+            globoid_numbers,
+        )
+        from camfab.geometry.globoid_cam import globoid_cam
+
+        dense = globoid_dense(globoid_cam(design, program), program)
+        numbers = globoid_numbers(dense, program)
+        findings = [*globoid_findings(design, dense, numbers), *findings]
+        return Analysis(design, program, units, stats, findings, GloboidResult(dense, numbers))
+
+    @staticmethod
+    def part(analysis: Analysis) -> Part:
+        return globoid_part(analysis)
+
+    @staticmethod
+    def verify(analysis: Analysis, part: Part, files: PartFiles) -> tuple[Analysis,
+                                                                          Verification]:
+        return analysis, globoid_verify(analysis, part, files)
+
+
+KIND = Globoidal()
+
+
+def check_blank(design: Design, blank: GloboidCam) -> None:
+    """The rules of a globoidal design that need its groove's geometry (raising
+    :class:`~camfab.design.rules.RuleViolation`)."""
+    from camfab.design.rules import MIN_WALL_MM, fail, mm, wall_need
+    from camfab.geometry.globoid_cam import FLOOR_GAP_MM, end_reach, groove_extent
+
+    cam = design.cam
+    g = blank.follower
+    given = ("cam", "outer_radius") if cam.outer_radius is not None else ("cam", "groove_depth")
+    if blank.inward * (blank.surface - blank.roller_outer) <= 0.0:
+        fail(given, f"puts the blank's surface {mm(blank.surface)} from the pivot, beyond the "
+             f"roller's outer end ({mm(blank.roller_outer)}): the arm would run in the groove")
+    if cam.outer_radius is not None:
+        reach = end_reach(g, blank.roller_inner, design.program)
+        past = blank.inward * (blank.floor - blank.roller_inner)
+        if past < reach + FLOOR_GAP_MM:
+            need = blank.depth + reach + FLOOR_GAP_MM - past
+            fail(("cam", "groove_depth"), f"puts the groove's floor {mm(past)} past the "
+                 f"roller's inner end, whose end face sweeps {mm(reach)} past it as the arm "
+                 f"tilts: with {FLOOR_GAP_MM:g} mm of clearance the groove must be at least "
+                 f"{mm(need)} deep at this outer_radius")
+    if cam.width is not None and blank.inward > 0 and cam.width / 2.0 >= blank.surface:
+        fail(("cam", "width"), f"must be less than {mm(2 * blank.surface)}: the hourglass "
+             "closes beyond it")
+    if blank.ends_radius() <= 0.0:
+        fail(("cam", "width"), "is wider than the barrel: its ends would pass the cam axis")
+    floor_r, corner_r, reach_z = groove_extent(blank, design.program)
+    least = min(floor_r, corner_r)
+    if least < wall_need(cam.bore or 0.0):
+        if cam.bore is not None:
+            fail(("cam", "bore"), f"reaches the groove's floor (it comes within {mm(least)} of "
+                 f"the cam axis; the bore must leave {MIN_WALL_MM:g} mm under it)")
+        fail(("cam", "groove_depth"), f"takes the groove's floor to within {mm(least)} of the "
+             f"cam axis; it must stay {MIN_WALL_MM:g} mm clear of it")
+    if cam.width is not None and reach_z + MIN_WALL_MM > cam.width / 2.0:
+        fail(("cam", "width"), f"the groove reaches z = ±{mm(reach_z)}: the blank must be at "
+             f"least {mm(2 * (reach_z + MIN_WALL_MM))} wide to leave {MIN_WALL_MM:g} mm walls")
+
+
+def _undercut(analysis: Analysis) -> bool:
+    return any(f.id == "undercut" and not f.ok for f in analysis.findings)
+
+
+def globoid_part(analysis: Analysis) -> Part:
+    """The globoid's part: the blank's half-section revolved less the groove's tube (withheld
+    when a flank folds); the half-section and the developed centre path as the drawing, the
+    half-section as the view."""
+    from camfab.curves.sampling import SAMPLING_SHARE
+    from camfab.export.part import Difference, Mesh, Part, Revolution
+    from camfab.export.stl import circle_segments
+    from camfab.geometry.globoid_cam import tube
+    from camfab.geometry.plate import Contours
+
+    design, dense = analysis.design, analysis.globoid
+    assert dense is not None
+    blank, program = dense.blank, analysis.program
+    tolerance = SAMPLING_SHARE * design.manufacturing.tolerance
+    section = blank.section()
+    groove = tube(blank, program, tolerance)
+    withheld: dict[str, str] = {}
+    solid = None
+    if _undercut(analysis):
+        withheld["stl"] = ("a flank of the groove folds over itself (see the undercut check): "
+                           "there is no solid the roller could run in")
+    else:
+        points = section.points(tolerance)
+        radius = float(np.max(points[:, 0]))
+        body = Revolution(points, circle_segments(radius, tolerance))
+        solid = Difference(body, Mesh(groove.vertices, groove.faces), cut_first=True)
+    drawing = _section_drawing(analysis, blank, tolerance)
+    return Part({design.name: drawing}, {design.name: (Contours((section,)), None)}, solid,
+                needs=("dxf", "stl"), withheld=withheld, made=groove)
+
+
+def _section_drawing(analysis: Analysis, blank: GloboidCam, tolerance: float) -> Drawing:
+    """The blank's half-section for the lathe on ``CUT`` (r across, the cam axis up, the axis
+    on ``MARK``), and below it the groove's centre path developed on the pitch globoid on
+    ``PITCH`` in its frame on ``MARK``, with notes."""
+    from camfab.export.part import Drawing
+    from camfab.geometry.arcfit import fit_arcs
+    from camfab.geometry.globoid_cam import development
+
+    design, program = analysis.design, analysis.program
+    g = blank.follower
+    scale = 1.0 / design.mm_per_unit
+    drawing = Drawing(design.units)
+    half = blank.width / 2.0
+    drawing.line((0.0, (-half - 5.0) * scale), (0.0, (half + 5.0) * scale), "MARK")
+    dev = development(blank, program, math.radians(0.25))
+    gap = 10.0 + 0.2 * blank.width
+    shift = np.array([0.0, -half - gap - (dev.high - dev.low)]) - np.array([0.0, dev.low])
+    frame = np.array([[0.0, dev.low], [dev.width, dev.low], [dev.width, dev.high],
+                      [0.0, dev.high]]) + shift
+    for a, b in zip(frame, np.roll(frame, -1, axis=0), strict=True):
+        drawing.line(tuple(a * scale), tuple(b * scale), "MARK")
+    centre = fit_arcs(dev.centre + shift, tolerance, closed=False)
+    drawing.contour(centre, scale, "PITCH", closed=False)
+    unit = design.units
+    text = [f"{design.name}: globoidal cam ({design.cam.globoid}), {design.cam.rotation}: the "
+            f"blank's half-section (r across, the cam axis up), {blank.outer_radius * scale:.6g} "
+            f"{unit} at its {'waist' if blank.inward > 0 else 'crown'}, "
+            f"{blank.width * scale:.6g} {unit} wide; the surface an arc of radius "
+            f"{blank.surface * scale:.6g} {unit} about the pivot",
+            f"below: the groove's centre path developed on the pitch globoid (around: the cam "
+            f"angle × {abs(g.centre - g.arm) * scale:.6g} {unit}; up: the arc of radius "
+            f"{g.arm * scale:.6g} {unit} about the pivot), reference only: the groove is cut "
+            "from the STL"]
+    height = max(blank.width * scale * 0.03, 1e-3)
+    low = float(frame[:, 1].min())
+    for row, line in enumerate(text, start=1):
+        drawing.text(line, height, (0.0, (low - 1.6 * row * height / scale) * scale))
+    drawing.contour(blank.section(), scale, "CUT")
+    return drawing
+
+
+def globoid_verify(analysis: Analysis, part: Part, files: PartFiles) -> Verification:
+    """The roller put at its pose in the groove of the STL read back at every
+    :data:`~camfab.geometry.globoid_cam.VERIFY_STEP` (or, with a flank folded, in the tube
+    as computed): each flank must stand within the tolerance of the roller's wall radius and
+    never inside it; the STL checked closed, outward and of the solid's volume; the DXF's
+    half-section measured against the exact one."""
+    from camfab.export.dxf import read_cut_outline
+    from camfab.export.stl import check_stl, read_stl
+    from camfab.geometry.disc_geometry import LiftCheck
+    from camfab.geometry.globoid_cam import (
+        VERIFY_STEP,
+        mesh_edges,
+        near_roller,
+        roller_run,
+    )
+    from camfab.motion.program import cycle_angles
+
+    design, dense = analysis.design, analysis.globoid
+    assert dense is not None
+    blank, program = dense.blank, analysis.program
+    tolerance = design.manufacturing.tolerance
+    folded = _undercut(analysis)
+    if folded or files.stl is None:
+        vertices, faces = part.made.vertices, part.made.faces
+        stl_check = None
+        source = "the groove's tube as computed (a flank folds: no STL)"
+    else:
+        mesh = read_stl(files.stl.data)
+        stl_check = check_stl(files.stl.data, files.stl.volume_mm3,
+                              tolerance * files.stl.area_mm2, mesh)
+        vertices = np.asarray(mesh.vertices, dtype=np.float64)
+        faces = np.asarray(mesh.faces)
+        source = f"the roller put in the groove of {design.name}.stl read back"
+    theta = cycle_angles(VERIFY_STEP)
+    edges = mesh_edges(vertices, faces, near_roller(blank, vertices))
+    run = roller_run(blank, edges, theta, program.evaluate(theta))
+    # each flank's distance from the roller's wall radius: off it (> 0) or into it (< 0)
+    error = np.maximum(np.abs(run.gap_plus_mm), np.abs(run.gap_minus_mm))
+    error = np.maximum(error, run.cut_mm)
+    written = read_cut_outline(files.files["dxf"][f"{design.name}.dxf"], design.mm_per_unit)
+    exact = blank.section().points(tolerance / 64.0)
+    deviation = float(written.distance(exact).max())
+    return Verification(LiftCheck(theta, error, error), source, len(written.vertices),
+                        deviation, stl_check, exempt=folded)
