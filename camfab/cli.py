@@ -28,7 +28,7 @@ if TYPE_CHECKING:
 
 STARTER_KINDS = ("disc-roller", "disc-knife", "disc-flat", "disc-mushroom", "oscillating",
                  "oscillating-flat", "cylindrical", "circular-arc", "tangent", "groove",
-                 "conjugate", "constant-breadth", "linear")
+                 "conjugate", "constant-breadth", "linear", "globoidal")
 
 
 class Interrupted(BaseException):

@@ -27,7 +27,8 @@ DRUMS = [p for p in DESIGN_FILES if load_design(p).cam.type == "cylindrical"
          and render(analyse(load_design(p))).files.get(f"{p.stem}.stl") is not None]
 #: Face-groove cams: plates whose groove is a pocket (their CUT layer is the plate's circle).
 GROOVES = [p for p in DESIGN_FILES if load_design(p).cam.type == "groove"]
-SOLIDS = PLATES + DRUMS + GROOVES
+GLOBOIDS = [p for p in DESIGN_FILES if load_design(p).cam.type == "globoidal"]
+SOLIDS = PLATES + DRUMS + GROOVES + GLOBOIDS
 
 
 def written(path: Path, folder: Path):  # type: ignore[no-untyped-def]
@@ -111,6 +112,26 @@ def test_openscad_takes_the_drum_into_a_boolean(path: Path, tmp_path: Path) -> N
     # the 96-gon's area less the bore's polygon (both within 1e-6 of their circles here)
     removed = (48 * r * r * math.sin(2 * math.pi / 96) - math.pi * inner * inner) * cam.length
     assert volume == pytest.approx(ours - removed, rel=1e-4)
+
+
+@pytest.mark.parametrize("path", GLOBOIDS, ids=[p.stem for p in GLOBOIDS])
+def test_openscad_takes_the_globoid_into_a_boolean(path: Path, tmp_path: Path) -> None:
+    design, analysis = written(path, tmp_path)
+    blank = analysis.globoid.blank
+    numbers = analysis.numbers
+    inner = blank.bore
+    # a 96-gon through the blank's whole width, between the bore and the groove's floor
+    solid_to = min(numbers.floor_radius, numbers.flank_radius, blank.ends_radius())
+    r = (inner + solid_to) / 2
+    height = blank.width + 2.0
+    mesh, messages = openscad(tmp_path, (
+        f'difference() {{ import("{design.name}.stl"); '
+        f'cylinder(r={r!r}, h={height!r}, center=true, $fn=96); }}\n'))
+    assert "WARNING" not in messages and "ERROR" not in messages, messages
+    assert mesh.is_watertight and mesh.is_winding_consistent
+    ours = trimesh.load(tmp_path / f"{design.name}.stl", file_type="stl")
+    removed = (48 * r * r * math.sin(2 * math.pi / 96) - math.pi * inner * inner) * blank.width
+    assert mesh.volume == pytest.approx(ours.volume - removed, rel=1e-4)
 
 
 #: What admesh must not have had to repair. ("Normals fixed" is left out: admesh recomputes the

@@ -141,11 +141,11 @@ def _motion_panels(analysis: Analysis, axes: list[Axes]) -> None:
 
 def _pressure_panels(analysis: Analysis, top: Axes, bottom: Axes) -> None:
     limit = math.degrees(analysis.design.pressure_angle_limit)
+    top.set_ylabel("pressure angle\n(deg)", fontsize=LEGEND_FONT)
+    bottom.set_ylabel("radius of\ncurvature (mm)", fontsize=LEGEND_FONT)  # (a kind may rename)
     analysis.result.pressure_panels(analysis, top, bottom)
     for sign in (1, -1):
         top.axhline(sign * limit, color=BAD, linewidth=0.8, linestyle="--")
-    top.set_ylabel("pressure angle\n(deg)", fontsize=LEGEND_FONT)
-    bottom.set_ylabel("radius of\ncurvature (mm)", fontsize=LEGEND_FONT)
     for ax in (top, bottom):
         ax.legend(fontsize=LEGEND_FONT, outside_right=True)
 

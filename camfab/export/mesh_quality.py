@@ -11,6 +11,7 @@ solid keep it, moving no corner further than half the shortest edge allowed.
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
@@ -48,6 +49,17 @@ def min_altitude(vertices: Array) -> float:
     return max(MIN_ALTITUDE_MM, 2.0 * float(np.spacing(farthest)))
 
 
+def _rounding(vertices: Array) -> float:
+    """How far (mm) an STL's float32 coordinates can shorten an edge of a solid with these
+    *vertices*: both ends rounded by half the float32 spacing at its farthest coordinate, in
+    each of three coordinates (an edge just longer than :data:`MIN_EDGE_MM` the repair keeps
+    must not come back shorter)."""
+    if vertices.size == 0:
+        return 0.0
+    farthest = np.float32(np.max(np.abs(vertices)))
+    return 2.0 * math.sqrt(3.0) * 0.5 * float(np.spacing(farthest))
+
+
 def edge_lengths(vertices: Array, faces: Index) -> Array:
     """(F, 3) lengths (mm) of each facet's edges: edge k runs from corner k to corner k + 1."""
     corners = vertices[faces]
@@ -73,7 +85,8 @@ def flaws(vertices: Array, faces: Index) -> tuple[int, int]:
 
 
 def without_slivers(solid: Any) -> Any:
-    """*solid* (a ``manifold3d.Manifold``) without edges shorter than :data:`MIN_EDGE_MM` or
+    """*solid* (a ``manifold3d.Manifold``) without edges shorter than :data:`MIN_EDGE_MM` (and
+    the float32 rounding of the file, :func:`_rounding`) or
     facets thinner than :data:`REPAIR_MARGIN` × :func:`min_altitude`, still a closed
     2-manifold.
 
@@ -90,7 +103,7 @@ def without_slivers(solid: Any) -> Any:
         vertices = np.array(mesh.vert_properties, dtype=np.float64)[:, :3]
         faces = np.asarray(mesh.tri_verts, dtype=np.int64)
         lengths = edge_lengths(vertices, faces)
-        short = lengths < MIN_EDGE_MM
+        short = lengths < MIN_EDGE_MM + _rounding(vertices)
         limit = REPAIR_MARGIN * min_altitude(vertices)
         thin = (altitudes(vertices, faces, lengths) < limit) & ~short.any(axis=1)
         if not short.any() and not thin.any():

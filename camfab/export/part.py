@@ -176,11 +176,14 @@ class Mesh:
 @dataclass(frozen=True)
 class Difference:
     """*body* less *cut* (*cut* built first when *cut_first*: the order manifold3d numbers
-    its meshes in)."""
+    its meshes in); with a *tolerance* (mm), both given it first (manifold3d's
+    ``set_tolerance``: the boolean then merges what lies closer than it, rather than leaving
+    the thin facets two curved tessellations make where their surfaces cross)."""
 
     body: Solid
     cut: Solid
     cut_first: bool = False
+    tolerance: float | None = None
 
 
 @dataclass(frozen=True)

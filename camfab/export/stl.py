@@ -21,7 +21,14 @@ from numpy.typing import NDArray
 from camfab.analysis.verification import StlCheck
 from camfab.arrays import Array, Index, Mask
 from camfab.curves.sampling import arc_points
-from camfab.export.part import Cylinder, Difference, Extrusion, Mesh, Revolution, Solid
+from camfab.export.part import (
+    Cylinder,
+    Difference,
+    Extrusion,
+    Mesh,
+    Revolution,
+    Solid,
+)
 
 if TYPE_CHECKING:
     from camfab.geometry.plate import Contours
@@ -209,6 +216,9 @@ def build(solid: Solid, held: list[Any]) -> Any:
         else:
             body = build(solid.body, held)
             cut = build(solid.cut, held)
+        if solid.tolerance is not None:
+            body, cut = body.set_tolerance(solid.tolerance), cut.set_tolerance(solid.tolerance)
+            held.extend((body, cut))
         made = body - cut
     else:
         parts = [build(part, held) for part in solid.parts]

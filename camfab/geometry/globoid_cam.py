@@ -400,6 +400,7 @@ def roller_run(blank: GloboidCam, edges: Array, theta: Array, motion: Array) -> 
     g = blank.follower
     ends = blank.contact(2)
     low, high = float(np.min(ends)), float(np.max(ends))
+    edges = _split(edges, g.radius)
     start, step = edges[:, 0], edges[:, 1] - edges[:, 0]
     middle_xy = start + 0.5 * step
     polar = np.arctan2(middle_xy[:, 1], middle_xy[:, 0])
@@ -420,19 +421,25 @@ def roller_run(blank: GloboidCam, edges: Array, theta: Array, motion: Array) -> 
         mid = to_cam(g.axis_point(np.asarray(middle), np.asarray(psi)), g.sigma * t)
         pick = _window(polar, math.atan2(float(mid[1]), float(mid[0])), window)
         a, e = start[pick] - pivot, step[pick]
-        # across the axis: a⊥ + s·e⊥, nearest at s = −a⊥·e⊥/|e⊥|², kept on the edge
+        # the stretch of each edge beside the roller's length: low ≤ (a + s·e)·axis ≤ high
+        a_along, e_along = a @ axis, e @ axis
+        with np.errstate(divide="ignore", invalid="ignore"):
+            s_low, s_high = (low - a_along) / e_along, (high - a_along) / e_along
+        flat = np.abs(e_along) < 1e-12
+        first = np.where(flat, 0.0, np.maximum(np.minimum(s_low, s_high), 0.0))
+        last = np.where(flat, 1.0, np.minimum(np.maximum(s_low, s_high), 1.0))
+        beside = (first <= last) & (~flat | ((a_along >= low) & (a_along <= high)))
+        if not beside.any():
+            continue
+        a, e, first, last = a[beside], e[beside], first[beside], last[beside]
+        # across the axis: a⊥ + s·e⊥, nearest at s = −a⊥·e⊥/|e⊥|², kept on that stretch
         a_across = a - np.outer(a @ axis, axis)
         e_across = e - np.outer(e @ axis, axis)
         with np.errstate(divide="ignore", invalid="ignore"):
             s = -np.einsum("ij,ij->i", a_across, e_across) / np.einsum("ij,ij->i", e_across,
                                                                         e_across)
-        s = np.clip(np.nan_to_num(s, nan=0.0), 0.0, 1.0)
+        s = np.clip(np.nan_to_num(s, nan=0.0), first, last)
         radial = a_across + s[:, None] * e_across
-        along = (a + s[:, None] * e) @ axis
-        near = (along >= low) & (along <= high)
-        if not near.any():
-            continue
-        radial = radial[near]
         off = np.linalg.norm(radial, axis=1)
         n = to_cam(g.normal(np.asarray(middle), np.asarray(psi), np.asarray(dpsi)), g.sigma * t)
         side = radial @ n
@@ -441,6 +448,20 @@ def roller_run(blank: GloboidCam, edges: Array, theta: Array, motion: Array) -> 
         gap_p[k] = float(plus.min() - g.radius) if plus.size else np.inf
         gap_m[k] = float(minus.min() - g.radius) if minus.size else np.inf
     return RollerRun(np.asarray(theta), cut, gap_p, gap_m)
+
+
+def _split(edges: Array, longest: float) -> Array:
+    """*edges* ((E, 2, 3), mm) cut into pieces no longer than *longest* (the same lines)."""
+    length = np.linalg.norm(edges[:, 1] - edges[:, 0], axis=1)
+    pieces = np.maximum(1, np.ceil(length / longest).astype(np.intp))
+    if int(pieces.max(initial=1)) == 1:
+        return edges
+    owner = np.repeat(np.arange(len(edges)), pieces)
+    index = np.arange(owner.size) - np.repeat(np.cumsum(pieces) - pieces, pieces)
+    f0 = (index / pieces[owner])[:, None]
+    f1 = ((index + 1) / pieces[owner])[:, None]
+    a, b = edges[owner, 0], edges[owner, 1]
+    return np.stack((a + f0 * (b - a), a + f1 * (b - a)), axis=1)
 
 
 def _window(polar: Array, at: float, half: float) -> Array:

@@ -35,8 +35,8 @@ class CamKind(Protocol):
     #: spring to size, and the forces on either side are the kind's own.
     drives_both_ways: bool
 
-    #: What turns on the shaft and needs a bore ("plate", "drum"), or None for a cam on no
-    #: shaft (a linear cam slides).
+    #: What turns on the shaft and needs a bore ("plate", "drum", "globoid"), or None for a cam
+    #: on no shaft (a linear cam slides).
     mounted: str | None
 
     #: Why ``camfab inspect`` cannot hold a made part of this kind to its design (None: it can).

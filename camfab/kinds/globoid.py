@@ -30,6 +30,13 @@ if TYPE_CHECKING:
     from camfab.motion.program import MotionProgram
 
 
+#: The share of the sampling tolerance within which the boolean of the blank and the groove's
+#: tube merges what it meets (:attr:`~camfab.export.part.Difference.tolerance`): the tube
+#: crosses the blank's surface along a curve where the two tessellations' edges fall
+#: arbitrarily near each other, and would leave slivers there.
+MERGE_SHARE = 0.2
+
+
 @dataclass(frozen=True)
 class GloboidResult(CamResult):
     """A globoidal cam's groove on the analysis grid and its key numbers (mm, deg)."""
@@ -90,24 +97,25 @@ class GloboidResult(CamResult):
     def pressure_panels(self, analysis: Analysis, top: Any, bottom: Any) -> None:
         """The pressure angle at the roller's two ends in the groove (and the largest along
         it); the largest roller the flanks take without folding, against the roller's."""
-        from camfab.export.figures import BAD, PITCH, bands, clip_radii, thin
+        from camfab.export.figures import BAD, LEGEND_FONT, PITCH, bands, clip_radii, thin
 
         dense = self.globoid
         phi = np.degrees(np.abs(dense.pressure_angle))
         theta, outer, inner, limit = thin(np.degrees(dense.theta), phi[0], phi[-1],
                                           dense.undercut_radius)
         top.plot(theta, inner, color=PITCH, linewidth=1.0,
-                 label=f"α at the roller's inner end ({dense.ells[-1]:.4g} mm from the pivot)")
+                 label=f"α, roller's inner end ({dense.ells[-1]:.4g} mm)")
         top.plot(theta, outer, linewidth=1.0, linestyle="--",
-                 label=f"α at the blank's surface ({dense.ells[0]:.4g} mm)")
+                 label=f"α, blank's surface ({dense.ells[0]:.4g} mm)")
         bands(top, dense.theta, phi.max(axis=0) > math.degrees(
             analysis.design.pressure_angle_limit), "over the limit")
         bottom.plot(theta, clip_radii(limit), color=PITCH, linewidth=1.0,
-                    label="largest roller the flanks take")
+                    label="largest roller radius\nthe flanks take")
         wall = dense.blank.follower.radius
         bottom.axhline(wall, color=BAD, linewidth=0.8, linestyle="--",
                        label=f"roller {wall:.4g} mm")
         bands(bottom, dense.theta, dense.undercut_radius <= wall, "undercut")
+        bottom.set_ylabel("undercut\nlimit (mm)", fontsize=LEGEND_FONT)
 
     def drawing(self, analysis: Analysis) -> str:
         return _drawing_svg(analysis, self.globoid.blank)
@@ -134,10 +142,16 @@ def _drawing_svg(analysis: Analysis, blank: GloboidCam) -> str:
 
     design, program = analysis.design, analysis.program
     g = blank.follower
-    fig = Figure(9.0, 6.6, "drawing", left=0.09, right=0.66, bottom=0.08, top=0.94)
+    section = blank.section().points(max(1e-3, 0.002 * blank.width))
+    # as high as the section and the swinging roller need at the panel's width
+    swing = np.abs(np.sin(g.rest + np.array([0.0, program.max_lift])))
+    tall = max(0.6 * blank.width, float(np.max(swing)) * (g.arm + g.length / 2.0) + g.radius)
+    across = float(np.max(section[:, 0])) + g.centre
+    height = min(9.0, max(3.0, 0.57 * 9.0 * 2.0 * tall / across + 1.2))
+    fig = Figure(9.0, height, "drawing", left=0.09, right=0.66, bottom=0.7 / height,
+                 top=1.0 - 0.45 / height)
     [ax] = fig.subplots()
     ax.set_aspect("equal")
-    section = blank.section().points(max(1e-3, 0.002 * blank.width))
     for sign, label in ((1.0, "the blank in section"), (-1.0, None)):
         loop = np.vstack((section, section[:1]))
         ax.plot(sign * loop[:, 0], loop[:, 1], color=CUT, linewidth=1.2, label=label)
@@ -251,6 +265,9 @@ def check_blank(design: Design, blank: GloboidCam) -> None:
                  f"roller's inner end, whose end face sweeps {mm(reach)} past it as the arm "
                  f"tilts: with {FLOOR_GAP_MM:g} mm of clearance the groove must be at least "
                  f"{mm(need)} deep at this outer_radius")
+    if blank.inward < 0 and blank.outer_radius + MIN_WALL_MM > g.centre:
+        fail(given, f"gives a crown of radius {mm(blank.outer_radius)}: the barrel must stay "
+             f"{MIN_WALL_MM:g} mm inside the pivot axis, {mm(g.centre)} from the cam axis")
     if cam.width is not None and blank.inward > 0 and cam.width / 2.0 >= blank.surface:
         fail(("cam", "width"), f"must be less than {mm(2 * blank.surface)}: the hourglass "
              "closes beyond it")
@@ -298,7 +315,8 @@ def globoid_part(analysis: Analysis) -> Part:
         points = section.points(tolerance)
         radius = float(np.max(points[:, 0]))
         body = Revolution(points, circle_segments(radius, tolerance))
-        solid = Difference(body, Mesh(groove.vertices, groove.faces), cut_first=True)
+        solid = Difference(body, Mesh(groove.vertices, groove.faces), cut_first=True,
+                           tolerance=MERGE_SHARE * tolerance)
     drawing = _section_drawing(analysis, blank, tolerance)
     return Part({design.name: drawing}, {design.name: (Contours((section,)), None)}, solid,
                 needs=("dxf", "stl"), withheld=withheld, made=groove)
