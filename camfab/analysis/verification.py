@@ -29,6 +29,9 @@ class Verification:
     deviation_mm: float | None
     stl: StlCheck | None = None
     exempt: bool = False
+    #: Why an exempt build's files hold no cam, and the check that says more.
+    exempt_because: str = "the groove folds over itself"
+    exempt_check: str = "groove"
     hold: Hold | None = None
     #: An undercut cam's files held to the cam camfab computed, whose motion departs from the
     #: design on purpose: the follower's lift over the geometry as written less its lift over

@@ -38,6 +38,8 @@ FLOOR_GAP_MM = 0.5
 TOP_MARGIN_MM = 1.0
 #: Largest step of cam angle between the tube's stations (rad), however straight it runs.
 MAX_STATION_STEP = math.radians(1.0)
+#: The most rows along the arm the tube takes (count).
+MAX_ROWS = 257
 #: Cam-angle step at which the roller is run through the groove read back (rad).
 VERIFY_STEP = math.radians(0.5)
 
@@ -78,8 +80,8 @@ class GloboidCam:
     def contact(self, count: int = ANALYSIS_ROWS) -> Array:
         """*count* distances from the pivot (mm) along the roller inside the groove: from the
         blank's surface (or the roller's outer end, if inside it) to its inner end."""
-        start = self.surface if self.inward * (self.surface - self.roller_outer) > 0 else \
-            self.roller_outer
+        outside = self.inward * (self.surface - self.roller_outer) > 0
+        start = self.surface if outside else self.roller_outer
         return np.linspace(start, self.roller_inner, count)
 
     def radius_at(self, ell: Array, psi: Array) -> Array:
@@ -118,8 +120,8 @@ class GloboidCam:
 
 def globoid_cam(design: Design, program: MotionProgram) -> GloboidCam:
     """The globoidal cam of *design* (validated): its blank's size as given or by default
-    (:func:`default_blank`)."""
-    cam, fol = design.cam, design.follower
+    (:func:`default_surface`, :func:`default_width`)."""
+    cam = design.cam
     follower = follower_of(design, program)
     inward = 1.0 if cam.globoid == "concave" else -1.0
     depth = cam.groove_depth or 0.0
@@ -128,7 +130,6 @@ def globoid_cam(design: Design, program: MotionProgram) -> GloboidCam:
                else default_surface(follower, inward, depth, program))
     blank = GloboidCam(follower, inward, surface, depth, 0.0, bore)
     width = cam.width if cam.width is not None else default_width(blank, program)
-    assert fol.roller_radius is not None
     return GloboidCam(follower, inward, surface, depth, width, bore)
 
 
@@ -304,7 +305,7 @@ def tube_rows(blank: GloboidCam, program: MotionProgram, tolerance: float) -> Ar
             p = g.flank(0.0, rows[:, None], m[:, None, :], side)
             mid = g.flank(0.0, 0.5 * (rows[1:] + rows[:-1])[:, None], m[:, None, :], side)
             worst = max(worst, float(np.max(_chord_miss(mid, p[:-1], p[1:]))))
-        if worst <= tolerance or count >= 256:
+        if worst <= tolerance or count + 1 >= MAX_ROWS:
             return rows
         count *= 2
 
@@ -320,9 +321,11 @@ class Tube:
     rows: Array
 
 
-def tube(blank: GloboidCam, program: MotionProgram, tolerance: float) -> Tube:
+def tube(blank: GloboidCam, program: MotionProgram, tolerance: float,
+         twist: bool = True) -> Tube:
     """The groove as one closed tube whose flanks stay within *tolerance* (mm) of the exact
-    ones, its floor across in chords within it too.
+    ones, its floor across in chords within it too (without *twist*, the facets' diagonals are
+    not held to it: for a groove that folds, which no solid is made of).
 
     The rows and stations hold each row's and each section's chords to the tolerance; a quad
     between them is not flat (the flank twists: its points move at speeds that differ along the
@@ -335,7 +338,7 @@ def tube(blank: GloboidCam, program: MotionProgram, tolerance: float) -> Tube:
     ahead = np.append(theta[1:], theta[0] + 2 * math.pi)
     middle = 0.5 * (theta + ahead)
     m_ahead, m_mid = program.evaluate(ahead), program.evaluate(middle)
-    while rows.size < 257:
+    while twist and rows.size < MAX_ROWS:
         mid_rows = 0.5 * (rows[1:] + rows[:-1])[:, None]
         worst = 0.0
         for side in (1, -1):

@@ -158,8 +158,8 @@ def verification_finding(analysis: Analysis, check: Verification) -> Finding:
     else:
         value = None
         lift_ok = True
-        parts = [f"not applicable: the groove folds over itself, so there is no cam whose "
-                 f"motion the files could hold (see the groove check); run over "
+        parts = [f"not applicable: {check.exempt_because}, so there is no cam whose "
+                 f"motion the files could hold (see the {check.exempt_check} check); run over "
                  f"{check.source}, the roller moves up to {lift.max_mm:.3g} mm off the design"]
     stl = check.stl
     if stl is not None:
