@@ -143,8 +143,9 @@ def fit_finding(design: Design, numbers: GloboidNumbers) -> Finding:
     bore's), and the walls left at the blank's ends (the design file's rules require 1 mm of
     each; this reports what is left)."""
     bore = (design.cam.bore or 0.0) / 2.0
-    inside = numbers.floor_radius - bore
-    message = (f"the groove fits the blank: its floor stays {fmt(numbers.floor_radius)} mm from "
+    nearest = min(numbers.floor_radius, numbers.flank_radius)  # the floor or its corners
+    inside = nearest - bore
+    message = (f"the groove fits the blank: its floor stays {fmt(nearest)} mm from "
                f"the cam axis ({fmt(inside)} mm of wall {'over the bore' if bore else 'to it'}), "
                f"its flanks reach z = ±{fmt(numbers.reach_z)} mm, leaving "
                f"{fmt(numbers.end_wall)} mm at the blank's ends")
