@@ -193,21 +193,29 @@ def main() -> None:
 @click.option("--progress/--no-progress", default=None,
               help=f"Show a progress bar on stderr (default: for {PROGRESS_FROM} or more designs "
                    "when stderr is a terminal).")
+@click.option("--step", is_flag=True,
+              help="Write NAME.step too (exact solids for CAD; needs camfab[step]).")
 def build(designs: tuple[str, ...], out_dir: Path | None, jobs: int,
-          progress: bool | None) -> None:
+          progress: bool | None, step: bool) -> None:
     """Build DESIGN files: write the report, motion table and manufacturing files. With several
     designs, a failure of one does not stop the others; a summary table ends the output and the
     exit status is the worst of them."""
     import time
+    from functools import partial
 
     from camfab.batch import run_all, same_names, summary
+    from camfab.design.rules import STEP_MISSING, step_available
 
+    if step and not step_available():
+        click.echo(f"camfab build: --step: {STEP_MISSING}", err=True)
+        sys.exit(2)
     if progress is None:
         progress = len(designs) >= PROGRESS_FROM and sys.stderr.isatty()
     start = time.perf_counter()
     refused = same_names(designs) if len(designs) > 1 else {}
+    task = partial(_build_one, also=("step",) if step else ())
     built = iter(run_all([p for i, p in enumerate(designs) if i not in refused], out_dir, jobs,
-                         _build_one, progress, _import_build))
+                         task, progress, _import_build))
     outcomes = [refused[i] if i in refused else next(built) for i in range(len(designs))]
     code = _finish(outcomes)
     if len(designs) > 1:
@@ -411,12 +419,12 @@ def _guarded(path: str, work) -> Outcome:
                                "(set CAMFAB_DEBUG=1 for details; please report it)"])
 
 
-def _build_one(path: str, out_dir: Path | None) -> Outcome:
+def _build_one(path: str, out_dir: Path | None, also: tuple[str, ...] = ()) -> Outcome:
     def work() -> Outcome:
         from camfab.analysis.sizing_words import sized_words
         from camfab.pipeline import build as build_design
 
-        result = build_design(path, out_dir)
+        result = build_design(path, out_dir, also)
         lines = [f"{result.analysis.design.name}: {_verdict(result.analysis)} — wrote "
                  f"{len(result.written)} file(s) to {result.folder}/"]
         lines += [f"  {p.name}" for p in result.written]

@@ -28,6 +28,9 @@ if TYPE_CHECKING:
 
 #: Every output a design may ask for, in the order files are listed.
 ALL_OUTPUTS = ("dxf", "svg", "stl", "report", "csv")
+#: The outputs made only when asked for (``outputs`` or ``camfab build --step``): STEP needs the
+#: optional extra.
+ASKED_ONLY = ("step",)
 
 
 def load_design(path: str | Path) -> Design:
@@ -179,10 +182,19 @@ def verify_exports(analysis: Analysis, requested: tuple[str, ...]) -> tuple[Anal
     part = kind.part(analysis)
     made = serialise(analysis.design, part, requested)
     analysis, check = kind.verify(analysis, part, made)
+    if made.step is not None:
+        from camfab.export.step import check_step
+
+        assert part.solid is not None
+        check = replace(check, step=check_step(made.step, part.solid,
+                                               analysis.design.manufacturing.tolerance))
+    withheld = {k: v for k, v in {**part.withheld, **made.withheld}.items() if k in requested}
+    if withheld:  # the report says what was not made, and why
+        check = replace(check, withheld=tuple(withheld.items()))
     findings = [*analysis.findings, verification_finding(analysis, check)]
     wanted = {name: data for name, data in made.files.items() if name in requested}
     return (replace(analysis, verification=check, findings=findings),
-            Exports(wanted, {k: v for k, v in part.withheld.items() if k in requested}))
+            Exports(wanted, withheld))
 
 
 def _report_json(analysis: Analysis) -> bytes:
@@ -227,7 +239,7 @@ def render(analysis: Analysis) -> Artifacts:
     analysis, exports = verify_exports(analysis, requested)
     files: dict[str, bytes] = {}
     missing = []
-    for output in ALL_OUTPUTS:
+    for output in (*ALL_OUTPUTS, *ASKED_ONLY):
         if output not in requested:
             continue
         if output in exports.files:
@@ -344,9 +356,14 @@ def output_folder(design: Design, out_dir: Path | None) -> Path:
     return out_dir if out_dir is not None else Path("exports") / design.name
 
 
-def build(path: str | Path, out_dir: Path | None = None) -> BuildResult:
-    """Load, analyse, render and write one design file."""
+def build(path: str | Path, out_dir: Path | None = None,
+          also: tuple[str, ...] = ()) -> BuildResult:
+    """Load, analyse, render and write one design file; *also* the outputs named (``step``)
+    besides those the design asks for."""
     design = load_design(path)
+    if also:
+        asked = design.outputs or ALL_OUTPUTS
+        design = design.model_copy(update={"outputs": tuple(dict.fromkeys((*asked, *also)))})
     analysis = analyse(design)
     artifacts = render(analysis)
     folder = output_folder(design, out_dir)

@@ -37,6 +37,10 @@ class Verification:
     #: design on purpose: the follower's lift over the geometry as written less its lift over
     #: the cut cam (None when there is no such reference: a folded groove).
     cut_error: LiftCheck | None = None
+    #: The STEP read back (when one is made).
+    step: StepCheck | None = None
+    #: The outputs asked for that this part could not have, each with why.
+    withheld: tuple[tuple[str, str], ...] = ()
 
 
 @dataclass(frozen=True)
@@ -66,3 +70,32 @@ class StlCheck:
         return (self.watertight and self.consistent_winding and self.degenerate_faces == 0
                 and self.short_edges == 0 and self.sliver_faces == 0
                 and abs(self.volume_mm3 - self.expected_volume_mm3) <= self.volume_allowance_mm3)
+
+
+@dataclass(frozen=True)
+class StepCheck:
+    """The STEP read back with OpenCASCADE: its solids (and how many the part has), whether
+    ``BRepCheck_Analyzer`` finds the shape valid, its volume against the part's exact one
+    (mm³, the allowance: the tolerance over the part's surface), how far points sampled on its
+    faces lie from the part's contours of lines and arcs (mm, across; and how far its flat faces
+    lie off their planes) against the tolerance, and its entities: circles, cylinders and
+    B-splines."""
+
+    solids: int
+    expected_solids: int
+    valid: bool
+    volume_mm3: float
+    expected_volume_mm3: float
+    volume_allowance_mm3: float
+    deviation_mm: float
+    tolerance_mm: float
+    circles: int
+    cylinders: int
+    b_splines: int
+
+    @property
+    def ok(self) -> bool:
+        """One valid closed solid per part, of the part's volume, its faces on the contours."""
+        return (self.valid and self.solids == self.expected_solids
+                and abs(self.volume_mm3 - self.expected_volume_mm3) <= self.volume_allowance_mm3
+                and self.deviation_mm <= self.tolerance_mm and self.b_splines == 0)

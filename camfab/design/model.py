@@ -38,7 +38,7 @@ if TYPE_CHECKING:
 #: The ``cam.type`` names, from the registry of cam types.
 CamTypeName = Literal[tuple(CAM_TYPES)]  # type: ignore[valid-type]
 FollowerType = Literal["knife", "roller", "flat", "mushroom"]
-OutputName = Literal["dxf", "svg", "stl", "report", "csv"]
+OutputName = Literal["dxf", "svg", "stl", "report", "csv", "step"]
 
 
 def _ctx(info: ValidationInfo) -> dict[str, Any]:

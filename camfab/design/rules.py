@@ -348,6 +348,8 @@ def _check_other(design: Design) -> None:
              "machine holds less, and the exports' points grow without bound as it shrinks")
     if design.outputs is not None and len(set(design.outputs)) != len(design.outputs):
         fail(("outputs",), "lists an output twice")
+    if design.outputs is not None and "step" in design.outputs and not step_available():
+        fail(("outputs",), STEP_MISSING, show_got=False)
     spring = design.spring
     if spring is not None and spring.preload is not None and spring.initial_compression is not None:
         fail(("spring", "initial_compression"), "give either preload or initial_compression, "
@@ -377,6 +379,18 @@ def _check_size(design: Design, max_lift: float) -> None:
         fail(("manufacturing", "tolerance"), f"must be at least {least:.2g} mm for a cam of some "
              f"{size:.4g} mm: no file holds a finer one on a part that large (an STL's "
              f"coordinates round by {size * 3e-8:.2g} mm)")
+
+
+#: What asking for STEP without the optional extra is told.
+STEP_MISSING = ("step needs camfab's optional STEP extra (the OpenCASCADE bindings): "
+                "pip install 'camfab[step]'")
+
+
+def step_available() -> bool:
+    """Whether the OpenCASCADE bindings of the ``step`` extra are installed (not imported)."""
+    from importlib.util import find_spec
+
+    return find_spec("OCP") is not None
 
 
 def _split(field: str) -> tuple[str | int, ...]:

@@ -138,11 +138,14 @@ def _readable(profile: Profile, gap: float) -> Profile:
 @dataclass(frozen=True)
 class Extrusion:
     """The region of closed *chains* of (N, 2) points (mm; even-odd: the first the outline, the
-    rest holes) extruded from z = 0 to *height*, then moved up by *z* (when given)."""
+    rest holes) extruded from z = 0 to *height*, then moved up by *z* (when given); with the
+    same region *exact*ly, as the contours of lines and arcs the chains sample (or a circle's
+    radius about the origin), for the writers of exact solids (STEP)."""
 
     chains: tuple[Array, ...]
     height: float
     z: float | None = None
+    exact: tuple[Profile | float, ...] | None = None
 
 
 @dataclass(frozen=True)

@@ -92,8 +92,10 @@ def _key_points(report: dict[str, Any]) -> tuple[list[str], list[list[str]]]:
 def _verification(report: dict[str, Any]) -> list[tuple[str, str]]:
     rows = []
     for key, value in report["verification"].items():
-        if isinstance(value, dict):
-            rows += [(f"STL {column_label(k)}", show(v)) for k, v in value.items()]
+        if key == "not_produced":
+            rows += [(f"not produced: {name}", why) for name, why in value.items()]
+        elif isinstance(value, dict):
+            rows += [(f"{key.upper()} {column_label(k)}", show(v)) for k, v in value.items()]
         elif value is not None:
             rows.append((column_label(key), show(value)))
     return rows

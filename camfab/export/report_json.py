@@ -125,7 +125,7 @@ def _verification(analysis: Analysis) -> dict[str, Any]:
             return {"max_lift_error_mm": None}
         return {"max_lift_error_mm": lift.max_mm, "max_lift_error_at_deg": lift.at_deg,
                 "checked_on": "sampled profile"}
-    return {
+    out = {
         "max_lift_error_mm": check.lift.max_mm,
         "max_lift_error_at_deg": check.lift.at_deg,
         "checked_on": check.source,
@@ -145,6 +145,20 @@ def _verification(analysis: Analysis) -> dict[str, Any]:
             "volume_allowance_mm3": check.stl.volume_allowance_mm3,
         },
     }
+    if check.withheld:  # (only when an output asked for could not be made)
+        out["not_produced"] = {name: why for name, why in check.withheld}
+    if check.step is not None:  # (only when a STEP was asked for)
+        step = check.step
+        out["step"] = {
+            "checked_on": f"{analysis.design.name}.step read back by OpenCASCADE",
+            "ok": step.ok, "solids": step.solids, "expected_solids": step.expected_solids,
+            "valid": step.valid, "volume_mm3": step.volume_mm3,
+            "expected_volume_mm3": step.expected_volume_mm3,
+            "volume_allowance_mm3": step.volume_allowance_mm3,
+            "max_deviation_mm": step.deviation_mm, "circles": step.circles,
+            "cylinders": step.cylinders, "b_splines": step.b_splines,
+        }
+    return out
 
 
 def _segment(stats: Any, analysis: Analysis) -> dict[str, Any]:

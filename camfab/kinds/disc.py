@@ -141,22 +141,26 @@ def plate_part(analysis: Analysis, label: str | None = None,
     contours = plate(design, geom)
     thickness = design.cam.thickness
     solid = (None if thickness is None else
-             plate_stack([geom.outline_points()], contours.holes, geom.tolerance, thickness))
+             plate_stack([geom.outline_points()], contours.holes, geom.tolerance, thickness,
+                         [contours.outline]))
     return Part({design.name: plate_drawing(analysis, contours, label, outline_note)},
                 {design.name: (contours.cut, None)}, solid, made=contours)
 
 
 def plate_stack(outlines: list[Array], holes: Contours, tolerance: float,
-                thickness: float) -> Solid:
-    """Plates stacked along Z on one bore (mm): plate i is the outline *outlines[i]* with the
-    *holes*, from z = i·thickness to (i + 1)·thickness, the plates joined face to face into one
-    solid (a conjugate pair printed as one part; one outline, one plate)."""
+                thickness: float, exact: list[Profile]) -> Solid:
+    """Plates stacked along Z on one bore (mm): plate i is the outline *outlines[i]* (sampling
+    the lines and arcs of *exact[i]*) with the *holes*, from z = i·thickness to
+    (i + 1)·thickness, the plates joined face to face into one solid (a conjugate pair printed
+    as one part; one outline, one plate)."""
     from camfab.export.part import Extrusion, Union
     from camfab.export.stl import hole_points
 
     bores = hole_points(holes, tolerance)
-    return Union(tuple(Extrusion((outline, *bores), thickness, i * thickness)
-                       for i, outline in enumerate(outlines)))
+    return Union(tuple(Extrusion((outline, *bores), thickness, i * thickness,
+                                 (contour, *holes.profiles, *holes.circles))
+                       for i, (outline, contour) in enumerate(zip(outlines, exact,
+                                                                    strict=True))))
 
 
 def plate_drawing(analysis: Analysis, plate: Plate, label: str | None = None,

@@ -75,7 +75,8 @@ def linear_part(analysis: Analysis) -> Part:
     assert geom is not None
     cut, pitch, toolpath = linear_contours(analysis)
     thickness = design.cam.thickness
-    solid = None if thickness is None else Extrusion((geom.outline_points(),), thickness)
+    solid = (None if thickness is None else
+             Extrusion((geom.outline_points(),), thickness, None, (geom.outline,)))
     return Part({design.name: _drawing(analysis, cut, pitch, toolpath)},
                 {design.name: (Contours((cut,)), None)}, solid)
 

@@ -63,7 +63,7 @@ def pair_part(analysis: Analysis) -> Part:
     thickness = design.cam.thickness
     solid = (None if thickness is None else
              plate_stack([geom_a.outline_points(), made_b.outline_points()], plates["a"].holes,
-                         geom_a.tolerance, thickness))
+                         geom_a.tolerance, thickness, [plates["a"].outline, plates["b"].outline]))
     return Part(drawings, views, solid, made=(plates, made_b))
 
 

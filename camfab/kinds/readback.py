@@ -171,7 +171,18 @@ def verification_finding(analysis: Analysis, check: Verification) -> Finding:
                  f"short edges: {stl.short_edges}, sliver faces: {stl.sliver_faces})")
         parts.append(f"the STL reads back {shape}, {stl.faces} faces, "
                      f"{stl.volume_mm3:.6g} mm³ against the part's {stl.expected_volume_mm3:.6g}")
-    ok = lift_ok and (stl is None or stl.ok)
-    applicable = value is not None or (stl is not None and not stl.ok)
+    step = check.step
+    if step is not None:
+        shape = ("valid" if step.valid and step.solids == step.expected_solids
+                 and step.b_splines == 0 else
+                 f"NOT as made (valid: {step.valid}, solids: {step.solids} of "
+                 f"{step.expected_solids}, B-splines: {step.b_splines})")
+        parts.append(f"the STEP reads back {shape}, {step.solids} solid(s), {step.circles} "
+                     f"circles and {step.cylinders} cylinders, {step.volume_mm3:.6g} mm³ against "
+                     f"the part's exact {step.expected_volume_mm3:.6g}, its faces "
+                     f"{step.deviation_mm:.3g} mm at most off the part's contours")
+    ok = lift_ok and (stl is None or stl.ok) and (step is None or step.ok)
+    applicable = value is not None or (stl is not None and not stl.ok) or (
+        step is not None and not step.ok)
     return Finding("verification", ok, "error", "; ".join(parts), value, tolerance, "mm",
                    applicable=applicable)

@@ -1,0 +1,385 @@
+"""``NAME.step``: the part as exact solids for CAD and CAM (AP214, millimetres), written with
+the OpenCASCADE bindings of the optional ``step`` extra (``pip install 'camfab[step]'``), and
+read back.
+
+The solid is the part's own tree (:mod:`camfab.export.part`) built exactly: an extrusion from the
+lines and arcs of its contours (each line a plane, each arc a cylindrical face with a true
+circular edge; a circle a cylinder), a cylinder as a cylinder, differences as booleans, and the
+plates of a union as one solid each. A mesh has no exact form here: a part made of one (a drum's
+or a globoid's groove) gets no STEP, and the build says why.
+
+The file's header carries no clock time (a fixed stamp), so a design gives the same bytes every
+build; OpenCASCADE's progress messages are silenced.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from importlib.util import find_spec
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from camfab.analysis.verification import StepCheck
+from camfab.export.part import Cylinder, Difference, Extrusion, Mesh, Revolution, Solid, Union
+
+if TYPE_CHECKING:
+    from camfab.arrays import Array
+    from camfab.curves.profile import Profile
+
+#: What a design that asks for STEP without the extra is told.
+EXTRA_HINT = "pip install 'camfab[step]'"
+#: The stamp in the header's FILE_NAME: no clock time, so the bytes repeat.
+TIME_STAMP = "2000-01-01T00:00:00"
+#: The read-back measures a grid of this many points each way over each face's parameters.
+FACE_GRID = 5
+
+
+def step_available() -> bool:
+    """Whether the OpenCASCADE bindings (the ``step`` extra) are installed (without importing
+    them)."""
+    return find_spec("OCP") is not None
+
+
+class NotExact(ValueError):
+    """The part holds a piece camfab has no exact solid for (its message says which)."""
+
+
+@dataclass(frozen=True)
+class StepFile:
+    """A part written as STEP: its bytes, how many solids it holds, and its exact volume (mm³)
+    from the contours' areas."""
+
+    data: bytes
+    solids: int
+    volume_mm3: float
+
+
+def render_step(solid: Solid, name: str) -> StepFile:
+    """*solid* (mm) as AP214 STEP bytes, its product named *name* (raises :class:`NotExact`
+    before OpenCASCADE is imported)."""
+    _exact(solid)
+    shapes = [_shape(part) for part in _parts(solid)]
+    return StepFile(_written(shapes, name), len(shapes), _volume(solid))
+
+
+def _exact(solid: Solid) -> None:
+    """Raise :class:`NotExact` for a tree holding a piece with no exact form."""
+    if isinstance(solid, Extrusion) and solid.exact is None:
+        raise NotExact("an extrusion of sampled points only")
+    if isinstance(solid, Mesh):
+        raise NotExact("a mesh")
+    if isinstance(solid, Revolution):
+        raise NotExact("a revolved section of sampled points")
+    if isinstance(solid, Difference):
+        _exact(solid.body)
+        _exact(solid.cut)
+    if isinstance(solid, Union):
+        for part in solid.parts:
+            _exact(part)
+
+
+def _parts(solid: Solid) -> list[Solid]:
+    """The solids a STEP file holds one each: the plates of a union, or the whole."""
+    return list(solid.parts) if isinstance(solid, Union) else [solid]
+
+
+def _quiet() -> None:
+    """OpenCASCADE's messages off (its transfer statistics go to standard output)."""
+    from OCP.Message import Message, Message_Gravity
+
+    for printer in Message.DefaultMessenger_s().Printers():
+        printer.SetTraceLevel(Message_Gravity.Message_Fail)
+
+
+def _shape(solid: Solid) -> Any:
+    """*solid* as an OpenCASCADE shape, exactly."""
+    from OCP.BRepAlgoAPI import BRepAlgoAPI_Cut, BRepAlgoAPI_Fuse
+    from OCP.BRepPrimAPI import BRepPrimAPI_MakeCylinder
+
+    if isinstance(solid, Extrusion):
+        if solid.exact is None:
+            raise NotExact("an extrusion of sampled points only")
+        return _extrusion(solid.exact, solid.height, solid.z or 0.0)
+    if isinstance(solid, Cylinder):
+        return _moved(BRepPrimAPI_MakeCylinder(solid.radius, solid.height).Shape(),
+                      solid.z or 0.0)
+    if isinstance(solid, Difference):
+        return BRepAlgoAPI_Cut(_shape(solid.body), _shape(solid.cut)).Shape()
+    if isinstance(solid, Union):
+        shapes = [_shape(part) for part in solid.parts]
+        fused = shapes[0]
+        for shape in shapes[1:]:
+            fused = BRepAlgoAPI_Fuse(fused, shape).Shape()
+        return fused
+    what = "a mesh" if isinstance(solid, Mesh) else (
+        "a revolved section of sampled points" if isinstance(solid, Revolution) else
+        type(solid).__name__)
+    raise NotExact(what)
+
+
+def _extrusion(region: tuple[Profile | float, ...], height: float, z: float) -> Any:
+    """The region's outline extruded from *z* up *height* (mm), each hole cut through."""
+    from OCP.BRepAlgoAPI import BRepAlgoAPI_Cut
+
+    outline, *holes = region
+    shape = _moved(_prism(outline, height), z)
+    for hole in holes:  # through the plate, a millimetre beyond each face
+        shape = BRepAlgoAPI_Cut(shape, _moved(_prism(hole, height + 2.0), z - 1.0)).Shape()
+    return shape
+
+
+def _prism(contour: Profile | float, height: float) -> Any:
+    """A closed contour (or a circle's radius about the origin) as a face at z = 0, extruded
+    up *height* (mm)."""
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
+    from OCP.BRepPrimAPI import BRepPrimAPI_MakePrism
+    from OCP.gp import gp_Vec
+
+    face = BRepBuilderAPI_MakeFace(_wire(contour)).Face()
+    return BRepPrimAPI_MakePrism(face, gp_Vec(0.0, 0.0, height)).Shape()
+
+
+def _wire(contour: Profile | float) -> Any:
+    """A closed contour's wire at z = 0: a LINE edge per line, a circular arc through the arc's
+    middle per arc (its bulge), or one full circle."""
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeEdge, BRepBuilderAPI_MakeWire
+    from OCP.GC import GC_MakeArcOfCircle
+    from OCP.gp import gp_Ax2, gp_Circ, gp_Dir, gp_Pnt
+
+    wire = BRepBuilderAPI_MakeWire()
+    if isinstance(contour, float):
+        circle = gp_Circ(gp_Ax2(gp_Pnt(0.0, 0.0, 0.0), gp_Dir(0.0, 0.0, 1.0)), contour)
+        wire.Add(BRepBuilderAPI_MakeEdge(circle).Edge())
+        return wire.Wire()
+    start = contour.vertices
+    end = np.roll(start, -1, axis=0)
+    middle = _arc_middles(start, end, contour.bulges)
+    for a, b, m, bulge in zip(start, end, middle, contour.bulges, strict=True):
+        p, q = gp_Pnt(float(a[0]), float(a[1]), 0.0), gp_Pnt(float(b[0]), float(b[1]), 0.0)
+        if bulge == 0.0:
+            wire.Add(BRepBuilderAPI_MakeEdge(p, q).Edge())
+        else:
+            arc = GC_MakeArcOfCircle(p, gp_Pnt(float(m[0]), float(m[1]), 0.0), q).Value()
+            wire.Add(BRepBuilderAPI_MakeEdge(arc).Edge())
+    return wire.Wire()
+
+
+def _arc_middles(start: Array, end: Array, bulges: Array) -> Array:
+    """The middle of each edge's arc (mm): the chord's middle moved off it by the sagitta
+    b·c/2 (b the bulge, c the chord), to the right of the chord for a counter-clockwise arc."""
+    chord = end - start
+    right = np.stack((chord[:, 1], -chord[:, 0]), axis=1)
+    return 0.5 * (start + end) + 0.5 * bulges[:, None] * right
+
+
+def _moved(shape: Any, z: float) -> Any:
+    """*shape* moved up *z* (mm)."""
+    if z == 0.0:
+        return shape
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_Transform
+    from OCP.gp import gp_Trsf, gp_Vec
+
+    move = gp_Trsf()
+    move.SetTranslation(gp_Vec(0.0, 0.0, z))
+    return BRepBuilderAPI_Transform(shape, move, True).Shape()
+
+
+def _written(shapes: list[Any], name: str) -> bytes:
+    """*shapes* as one AP214 STEP file in millimetres, with no pcurves (the faces' curves in
+    their own parameters, which OpenCASCADE writes as B-splines) and a fixed header."""
+    import io
+
+    from OCP.APIHeaderSection import APIHeaderSection_MakeHeader
+    from OCP.IFSelect import IFSelect_ReturnStatus
+    from OCP.Interface import Interface_Static
+    from OCP.STEPControl import STEPControl_AsIs, STEPControl_Writer
+    from OCP.TCollection import TCollection_HAsciiString
+
+    _quiet()
+    writer = STEPControl_Writer()  # (sets the translator's parameters up first)
+    Interface_Static.SetCVal_s("write.step.schema", "AP214IS")
+    Interface_Static.SetCVal_s("write.step.unit", "MM")
+    Interface_Static.SetIVal_s("write.surfacecurve.mode", 0)
+    for shape in shapes:
+        writer.Transfer(shape, STEPControl_AsIs)
+    header = APIHeaderSection_MakeHeader(writer.Model())
+    header.SetName(TCollection_HAsciiString(name))
+    header.SetTimeStamp(TCollection_HAsciiString(TIME_STAMP))
+    for text, setter in (("camfab", header.SetOriginatingSystem),
+                         ("camfab", header.SetPreprocessorVersion)):
+        setter(TCollection_HAsciiString(text))
+    header.SetAuthorValue(1, TCollection_HAsciiString("camfab"))
+    header.SetOrganizationValue(1, TCollection_HAsciiString("camfab"))
+    stream = io.BytesIO()
+    if writer.WriteStream(stream) != IFSelect_ReturnStatus.IFSelect_RetDone:
+        raise RuntimeError("OpenCASCADE could not write the STEP file")
+    return _products_named(stream.getvalue(), name, len(shapes))
+
+
+def _products_named(data: bytes, name: str, count: int) -> bytes:
+    """*data* with each product named for its part (*name*, or ``NAME-a``, ``NAME-b`` for a
+    pair) instead of the translator's name and a counter that runs on through the process,
+    which would make each build's bytes differ."""
+    import re
+
+    names = [name] if count == 1 else [f"{name}-{chr(ord('a') + i)}" for i in range(count)]
+    seen: dict[bytes, bytes] = {}
+
+    def named(match: re.Match[bytes]) -> bytes:
+        key = match.group(0)
+        if key not in seen:
+            seen[key] = f"'{names[min(len(seen), count - 1)]}'".encode()
+        return seen[key]
+
+    return re.sub(rb"'Open CASCADE STEP translator [^']*'", named, data)
+
+
+def _volume(solid: Solid) -> float:
+    """The exact volume (mm³) of *solid* from its contours' areas (arcs included): an
+    extrusion's area × height, a cylinder's, a union's plates summed, a difference's body less
+    the cut's area over the height it shares with the body (a pocket inside the plate)."""
+    if isinstance(solid, Extrusion):
+        assert solid.exact is not None
+        return _area(solid.exact) * solid.height
+    if isinstance(solid, Cylinder):
+        return math.pi * solid.radius**2 * solid.height
+    if isinstance(solid, Union):
+        return sum(_volume(part) for part in solid.parts)
+    if isinstance(solid, Difference) and isinstance(solid.cut, Extrusion) \
+            and isinstance(solid.body, Extrusion):
+        assert solid.cut.exact is not None
+        low = max(solid.body.z or 0.0, solid.cut.z or 0.0)
+        high = min((solid.body.z or 0.0) + solid.body.height,
+                   (solid.cut.z or 0.0) + solid.cut.height)
+        return _volume(solid.body) - _area(solid.cut.exact) * max(high - low, 0.0)
+    raise NotExact(type(solid).__name__)
+
+
+def _area(region: tuple[Profile | float, ...]) -> float:
+    """The area (mm²) of an outline less its holes."""
+    areas = [math.pi * c * c if isinstance(c, float) else c.area for c in region]
+    return areas[0] - sum(areas[1:])
+
+
+def check_step(step: StepFile, solid: Solid, tolerance: float) -> StepCheck:
+    """*step* read back (its bytes, as a CAD program would) and held to *solid* (mm), its volume
+    within *tolerance* (mm) over the surface: see :class:`StepCheck`."""
+    import re
+
+    from OCP.BRepCheck import BRepCheck_Analyzer
+    from OCP.BRepGProp import BRepGProp
+    from OCP.GProp import GProp_GProps
+
+    shape = read_step(step.data)
+    props = GProp_GProps()
+    BRepGProp.VolumeProperties_s(shape, props)
+    area = GProp_GProps()
+    BRepGProp.SurfaceProperties_s(shape, area)
+    text = step.data.decode("ascii", errors="replace")
+    return StepCheck(
+        solids=_count_solids(shape),
+        expected_solids=step.solids,
+        valid=bool(BRepCheck_Analyzer(shape).IsValid()),
+        volume_mm3=float(props.Mass()),
+        expected_volume_mm3=step.volume_mm3,
+        volume_allowance_mm3=tolerance * float(area.Mass()),
+        deviation_mm=_deviation(shape, solid),
+        tolerance_mm=tolerance,
+        circles=len(re.findall(r"=\s*CIRCLE\(", text)),
+        cylinders=len(re.findall(r"=\s*CYLINDRICAL_SURFACE\(", text)),
+        b_splines=len(re.findall(r"B_SPLINE", text)),
+    )
+
+
+def read_step(data: bytes) -> Any:
+    """The shape of STEP *data*, read by OpenCASCADE's reader (raises ValueError)."""
+    import io
+
+    from OCP.IFSelect import IFSelect_ReturnStatus
+    from OCP.STEPControl import STEPControl_Reader
+
+    _quiet()
+    reader = STEPControl_Reader()
+    if reader.ReadStream("part.step", io.BytesIO(data)) != IFSelect_ReturnStatus.IFSelect_RetDone:
+        raise ValueError("OpenCASCADE cannot read the STEP file")
+    reader.TransferRoots()
+    return reader.OneShape()
+
+
+def _count_solids(shape: Any) -> int:
+    from OCP.TopAbs import TopAbs_SOLID
+    from OCP.TopExp import TopExp_Explorer
+
+    explorer = TopExp_Explorer(shape, TopAbs_SOLID)
+    count = 0
+    while explorer.More():
+        count += 1
+        explorer.Next()
+    return count
+
+
+def _deviation(shape: Any, solid: Solid) -> float:
+    """The largest distance (mm) of the shape's faces from the part's exact surfaces: on each
+    face a grid of points over its parameters, a flat face's against the nearest of the part's
+    planes (along Z), a side face's against the nearest contour of the part (across, in
+    plan)."""
+    from OCP.BRepAdaptor import BRepAdaptor_Surface
+    from OCP.BRepTools import BRepTools
+    from OCP.TopAbs import TopAbs_FACE
+    from OCP.TopExp import TopExp_Explorer
+    from OCP.TopoDS import TopoDS
+
+    planes = np.array(sorted(_planes(solid)))
+    worst = 0.0
+    explorer = TopExp_Explorer(shape, TopAbs_FACE)
+    grid = np.linspace(0.0, 1.0, FACE_GRID)
+    while explorer.More():
+        face = TopoDS.Face(explorer.Current())
+        u0, u1, v0, v1 = BRepTools.UVBounds_s(face)
+        surface = BRepAdaptor_Surface(face)
+        xyz = np.array([surface.Value(u0 + a * (u1 - u0), v0 + b * (v1 - v0)).Coord()
+                        for a in grid for b in grid])
+        if float(np.ptp(xyz[:, 2])) <= 1e-9:  # a flat face square to Z
+            worst = max(worst, float(np.min(np.abs(planes - xyz[0, 2]))))
+        else:
+            worst = max(worst, float(np.max(_contour_distance(solid, xyz[:, :2]))))
+        explorer.Next()
+    return worst
+
+
+def _planes(solid: Solid) -> set[float]:
+    """The heights (mm) of the part's flat faces."""
+    if isinstance(solid, (Extrusion, Cylinder)):
+        z = solid.z or 0.0
+        return {z, z + solid.height}
+    if isinstance(solid, Difference):
+        return _planes(solid.body) | _planes(solid.cut)
+    if isinstance(solid, Union):
+        return set().union(*(_planes(part) for part in solid.parts))
+    return set()
+
+
+def _contour_distance(solid: Solid, xy: Array) -> Array:
+    """The distance (mm) of each point from the nearest contour of the part, in plan."""
+    best = np.full(len(xy), np.inf)
+    for contour in _contours(solid):
+        if isinstance(contour, float):
+            distance = np.abs(np.hypot(xy[:, 0], xy[:, 1]) - contour)
+        else:
+            distance = contour.distance(xy)
+        best = np.minimum(best, distance)
+    return best
+
+
+def _contours(solid: Solid) -> list[Profile | float]:
+    if isinstance(solid, Extrusion):
+        return list(solid.exact or ())
+    if isinstance(solid, Cylinder):
+        return [float(solid.radius)]
+    if isinstance(solid, Difference):
+        return _contours(solid.body) + _contours(solid.cut)
+    if isinstance(solid, Union):
+        return [c for part in solid.parts for c in _contours(part)]
+    return []

@@ -1,0 +1,210 @@
+"""STEP solids (camfab/export/step.py), read back with OpenCASCADE directly: one valid solid per
+plate, its volume against the exact contours' areas (sampled finely and measured by shapely),
+true circles and cylinders for the arcs and no B-spline; the same bytes every build; a clear
+line without the extra; no OpenCASCADE in a build that does not ask for STEP."""
+
+from __future__ import annotations
+
+import io
+import math
+import re
+import subprocess
+import sys
+from importlib.util import find_spec
+from pathlib import Path
+
+import numpy as np
+import pytest
+import shapely
+
+from camfab.pipeline import analyse, design_from_text, load_design, render
+
+from .conftest import DESIGN_FILES, DESIGNS, REQUIRED, ROOT, run_cli, tool
+
+if find_spec("OCP") is None:  # CI installs the extra: there, its absence fails
+    if REQUIRED:
+        pytest.fail("the STEP extra (pip install 'camfab[step]') is not installed",
+                    pytrace=False)
+    pytest.skip("the STEP extra (pip install 'camfab[step]') is not installed",
+                allow_module_level=True)
+
+#: One design of each plate kind with a thickness.
+PLATE_KINDS = {load_design(p).cam.type: p for p in DESIGN_FILES
+               if load_design(p).cam.thickness is not None}
+
+
+def stepped(path: Path):  # type: ignore[no-untyped-def]
+    design = load_design(path)
+    design = design.model_copy(update={"outputs": ("dxf", "stl", "step")})
+    artifacts = render(analyse(design))
+    assert artifacts.analysis is not None
+    return design, artifacts
+
+
+def read(data: bytes):  # type: ignore[no-untyped-def]
+    from OCP.IFSelect import IFSelect_ReturnStatus
+    from OCP.STEPControl import STEPControl_Reader
+
+    reader = STEPControl_Reader()
+    assert reader.ReadStream("x.step", io.BytesIO(data)) == IFSelect_ReturnStatus.IFSelect_RetDone
+    reader.TransferRoots()
+    return reader.OneShape()
+
+
+def solids(shape) -> list:  # type: ignore[no-untyped-def]
+    from OCP.TopAbs import TopAbs_SOLID
+    from OCP.TopExp import TopExp_Explorer
+
+    found, explorer = [], TopExp_Explorer(shape, TopAbs_SOLID)
+    while explorer.More():
+        found.append(explorer.Current())
+        explorer.Next()
+    return found
+
+
+def volume(shape) -> float:  # type: ignore[no-untyped-def]
+    from OCP.BRepGProp import BRepGProp
+    from OCP.GProp import GProp_GProps
+
+    props = GProp_GProps()
+    BRepGProp.VolumeProperties_s(shape, props)
+    return float(props.Mass())
+
+
+@pytest.mark.parametrize("kind", sorted(PLATE_KINDS), ids=sorted(PLATE_KINDS))
+def test_a_plate_reads_back_as_exact_valid_solids(kind: str) -> None:
+    from OCP.BRepCheck import BRepCheck_Analyzer
+
+    design, artifacts = stepped(PLATE_KINDS[kind])
+    data = artifacts.files[f"{design.name}.step"]
+    text = data.decode("ascii")
+    assert text.startswith("ISO-10303-21;") and "AUTOMOTIVE_DESIGN" in text  # AP214
+    assert "SI_UNIT(.MILLI.,.METRE.)" in text
+    shape = read(data)
+    assert BRepCheck_Analyzer(shape).IsValid()
+    parts = solids(shape)
+    assert len(parts) == (2 if kind == "conjugate" else 1)
+    # the arcs are circles and cylinders, never B-splines or facets
+    assert len(re.findall(r"=\s*CIRCLE\(", text)) >= 2
+    assert len(re.findall(r"=\s*CYLINDRICAL_SURFACE\(", text)) >= 1
+    assert "B_SPLINE" not in text and "FACETED" not in text
+    # the volume against the part's contours sampled finely, their areas by shapely
+    analysis = artifacts.analysis
+    check = analysis.verification.step
+    assert check is not None and check.ok, check
+    part = kind_of_part(analysis)
+    expected = sum(region_volume(piece) for piece in part)
+    assert volume(shape) == pytest.approx(expected, rel=1e-6)
+
+
+def kind_of_part(analysis):  # type: ignore[no-untyped-def]
+    """The part's extrusions (pieces of the solid tree), with a sign: +1 added, −1 cut."""
+    from camfab.export.part import Difference, Extrusion, Union
+    from camfab.kinds import kind_of
+
+    solid = kind_of(analysis.design.cam.type).part(analysis).solid
+    pieces = []
+
+    def walk(node, sign: int) -> None:  # type: ignore[no-untyped-def]
+        if isinstance(node, Extrusion):
+            pieces.append((sign, node))
+        elif isinstance(node, Union):
+            for child in node.parts:
+                walk(child, sign)
+        else:
+            assert isinstance(node, Difference)
+            walk(node.body, sign)
+            walk(node.cut, -sign)
+
+    walk(solid, 1)
+    top = max(n.height + (n.z or 0.0) for s, n in pieces if s > 0)
+    return [(s, n, top) for s, n in pieces]
+
+
+def region_volume(piece) -> float:  # type: ignore[no-untyped-def]
+    sign, node, top = piece
+    polygons = []
+    for contour in node.exact:
+        if isinstance(contour, float):
+            angle = np.linspace(0.0, 2 * math.pi, 20001)[:-1]
+            polygons.append(shapely.Polygon(np.column_stack((contour * np.cos(angle),
+                                                             contour * np.sin(angle)))))
+        else:
+            polygons.append(shapely.Polygon(contour.points(1e-6)))
+    region = polygons[0]
+    for hole in polygons[1:]:
+        region = region.difference(hole)
+    z = node.z or 0.0
+    height = min(node.height, top - z)  # a pocket's overshoot above the face cuts nothing
+    return sign * region.area * height
+
+
+def test_the_same_design_gives_the_same_step_bytes() -> None:
+    path = PLATE_KINDS["disc"]
+    first = stepped(path)[1].files
+    second = stepped(path)[1].files
+    name = next(n for n in first if n.endswith(".step"))
+    assert first[name] == second[name]
+
+
+def test_cli_step_writes_the_file_and_a_drum_says_why_it_has_none(tmp_path: Path) -> None:
+    result = run_cli("build", "--step", str(DESIGNS / "seed-10-4.yaml"), "-o", "out",
+                     cwd=tmp_path)
+    assert result.exit_code == 1  # the seed's pressure angle, not the STEP
+    assert (tmp_path / "out" / "seed-10-4.step").is_file()
+    drum = run_cli("build", "--step", str(DESIGNS / "demo-cylindrical.yaml"), "-o", "drum",
+                   cwd=tmp_path)
+    assert drum.exit_code == 0, drum.output
+    assert "not produced: step (no exact solid of a cylindrical cam" in drum.output
+    assert not (tmp_path / "drum" / "demo-cylindrical.step").exists()
+
+
+def test_without_the_extra_asking_for_step_is_one_clear_line(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    import camfab.design.rules as rules
+
+    monkeypatch.setattr(rules, "step_available", lambda: False)
+    text = (DESIGNS / "seed-10-4.yaml").read_text() + "outputs: [dxf, step]\n"
+    path = tmp_path / "d.yaml"
+    path.write_text(text)
+    result = run_cli("build", str(path), "-o", "out", cwd=tmp_path)
+    assert result.exit_code == 2
+    lines = result.output.strip().splitlines()
+    assert len(lines) == 1 and "outputs" in lines[0] and "camfab[step]" in lines[0], lines
+    assert not (tmp_path / "out").exists()
+    flag = run_cli("build", "--step", str(DESIGNS / "seed-10-4.yaml"), "-o", "out",
+                   cwd=tmp_path)
+    assert flag.exit_code == 2 and "camfab[step]" in flag.output
+    with pytest.raises(Exception, match="camfab\\[step\\]"):
+        design_from_text(text)
+
+
+def test_a_build_without_step_imports_no_opencascade(tmp_path: Path) -> None:
+    code = ("import sys\nfrom camfab.pipeline import build\n"
+            f"build({str(DESIGNS / 'seed-10-4.yaml')!r}, __import__('pathlib').Path("
+            f"{str(tmp_path)!r}))\nprint('OCP' in sys.modules)\n")
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True, timeout=120)
+    assert run.stdout.strip() == "False"
+
+
+@pytest.mark.parametrize("kind", sorted(PLATE_KINDS), ids=sorted(PLATE_KINDS))
+def test_freecad_reads_the_step_as_valid_solids_of_our_volume(kind: str, tmp_path: Path) -> None:
+    import json
+    import os
+
+    program = tool("freecadcmd", "freecad-python3")
+    design, artifacts = stepped(PLATE_KINDS[kind])
+    path = tmp_path / f"{design.name}.step"
+    path.write_bytes(artifacts.files[path.name])
+    run = subprocess.run([program, str(ROOT / "tests" / "freecad_step.py")],
+                         env={**os.environ, "CAMFAB_STEP": str(path)}, capture_output=True,
+                         text=True, timeout=300, check=False)
+    line = next((x for x in run.stdout.splitlines() if x.startswith("CAMFAB ")), None)
+    assert line is not None, run.stdout + run.stderr
+    found = json.loads(line.removeprefix("CAMFAB "))
+    check = artifacts.analysis.verification.step
+    assert found["valid"] and found["closed"], found
+    assert found["solids"] == check.expected_solids
+    assert found["volume"] == pytest.approx(check.expected_volume_mm3, rel=1e-6)
+    assert found["circles"] >= 2 and found["bsplines"] == 0
