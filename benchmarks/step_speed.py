@@ -4,8 +4,8 @@
 
 For each design (by default a disc cam, seed-10-4, a conjugate pair, demo-conjugate, and a drum
 cam, demo-cylindrical) the two builds alternate in one run, medians of N; then in process, the
-libraries loaded, the STEP written and read back (its check) for the part. Needs the ``step``
-extra (``pip install 'camfab[step]'``).
+libraries loaded, the STEP written and read back (its check; a drum's held to its STL's volume)
+for the part. Needs the ``step`` extra (``pip install 'camfab[step]'``).
 """
 
 from __future__ import annotations
@@ -40,6 +40,7 @@ def in_process(path: Path, runs: int) -> tuple[float, float, int] | None:
     for a part with no exact solid)."""
     sys.path.insert(0, str(ROOT))
     from camfab.export.step import NotExact, check_step, render_step
+    from camfab.export.stl import render_stl
     from camfab.kinds import kind_of
     from camfab.pipeline import analyse, load_design
 
@@ -52,13 +53,16 @@ def in_process(path: Path, runs: int) -> tuple[float, float, int] | None:
         step = render_step(solid, design.name)
     except NotExact:
         return None
-    check_step(step, solid, design.manufacturing.tolerance)  # warm
+    tolerance = design.manufacturing.tolerance
+    stl = render_stl(solid)  # a drum's STEP is held to its STL's volume
+    measured = (stl.volume_mm3, tolerance * stl.area_mm2)
+    check_step(step, solid, tolerance, measured)  # warm
     written, checked = [], []
     for _ in range(runs):
         start = time.perf_counter()
         step = render_step(solid, design.name)
         middle = time.perf_counter()
-        check_step(step, solid, design.manufacturing.tolerance)
+        check_step(step, solid, tolerance, measured)
         written.append(middle - start)
         checked.append(time.perf_counter() - middle)
     return statistics.median(written), statistics.median(checked), len(step.data)

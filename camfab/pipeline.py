@@ -186,8 +186,10 @@ def verify_exports(analysis: Analysis, requested: tuple[str, ...]) -> tuple[Anal
         from camfab.export.step import check_step
 
         assert part.solid is not None
-        check = replace(check, step=check_step(made.step, part.solid,
-                                               analysis.design.manufacturing.tolerance))
+        tolerance = analysis.design.manufacturing.tolerance
+        measured = None if made.stl is None else (made.stl.volume_mm3,
+                                                  tolerance * made.stl.area_mm2)
+        check = replace(check, step=check_step(made.step, part.solid, tolerance, measured))
     withheld = {k: v for k, v in {**part.withheld, **made.withheld}.items() if k in requested}
     if withheld:  # the report says what was not made, and why
         check = replace(check, withheld=tuple(withheld.items()))

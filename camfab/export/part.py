@@ -170,10 +170,17 @@ class Revolution:
 
 @dataclass(frozen=True)
 class Mesh:
-    """A closed triangle mesh (mm): (V, 3) vertices and (F, 3) faces, outward."""
+    """A closed triangle mesh (mm): (V, 3) vertices and (F, 3) faces, outward; for the writers
+    of exact solids (STEP), the same closed surface as *surfaces*, grids of points on it
+    ((N, M, 3) each, closed round N: the last row joins the first; each grid's first and last
+    columns the neighbouring grids' edges), to be interpolated by B-spline surfaces, and
+    *probes*, (K, 3) points of the exact surface between the grids' points, to measure them
+    by."""
 
     vertices: Array
     faces: Array
+    surfaces: tuple[Array, ...] = ()
+    probes: Array | None = None
 
 
 @dataclass(frozen=True)

@@ -5,8 +5,10 @@ read back.
 The solid is the part's own tree (:mod:`camfab.export.part`) built exactly: an extrusion from the
 lines and arcs of its contours (each line a plane, each arc a cylindrical face with a true
 circular edge; a circle a cylinder), a cylinder as a cylinder, differences as booleans, and the
-plates of a union as one solid each. A mesh has no exact form here: a part made of one (a drum's
-or a globoid's groove) gets no STEP, and the build says why.
+plates of a union as one solid each; a mesh that carries grids of its exact surface's points (a
+drum's groove) as B-spline surfaces approximated through them and sewn into one solid, measured
+against probes of the exact surface. A mesh without them, or a section revolved from sampled
+points (a globoid's), has no exact form here: the part gets no STEP, and the build says why.
 
 The file's header carries no clock time (a fixed stamp), so a design gives the same bytes every
 build; OpenCASCADE's progress messages are silenced.
@@ -14,6 +16,7 @@ build; OpenCASCADE's progress messages are silenced.
 
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass
 from importlib.util import find_spec
@@ -34,6 +37,13 @@ EXTRA_HINT = "pip install 'camfab[step]'"
 TIME_STAMP = "2000-01-01T00:00:00"
 #: The read-back measures a grid of this many points each way over each face's parameters.
 FACE_GRID = 5
+#: How near (mm) the fitted surfaces come to the grids' points.
+FIT_MM = 1e-5
+#: The patches each fitted surface is cut into round the cam (count).
+FIT_PATCHES = 4
+#: How near (mm) the fitted surfaces' shared edges must be to be sewn into one: a few times
+#: :data:`FIT_MM`, far below any tolerance.
+SEWING_MM = 1e-4
 
 
 def step_available() -> bool:
@@ -48,12 +58,14 @@ class NotExact(ValueError):
 
 @dataclass(frozen=True)
 class StepFile:
-    """A part written as STEP: its bytes, how many solids it holds, and its exact volume (mm³)
-    from the contours' areas."""
+    """A part written as STEP: its bytes, how many solids it holds, its exact volume (mm³)
+    from the contours' areas (None for a part with fitted surfaces), and whether it has
+    fitted (B-spline) surfaces."""
 
     data: bytes
     solids: int
-    volume_mm3: float
+    volume_mm3: float | None
+    curved: bool
 
 
 def render_step(solid: Solid, name: str) -> StepFile:
@@ -61,14 +73,29 @@ def render_step(solid: Solid, name: str) -> StepFile:
     before OpenCASCADE is imported)."""
     _exact(solid)
     shapes = [_shape(part) for part in _parts(solid)]
-    return StepFile(_written(shapes, name), len(shapes), _volume(solid))
+    try:
+        volume: float | None = _volume(solid)
+    except NotExact:
+        volume = None
+    return StepFile(_written(shapes, name), len(shapes), volume, _curved(solid))
+
+
+def _curved(solid: Solid) -> bool:
+    """Whether the tree holds surfaces fitted through points (a mesh's)."""
+    if isinstance(solid, Mesh):
+        return bool(solid.surfaces)
+    if isinstance(solid, Difference):
+        return _curved(solid.body) or _curved(solid.cut)
+    if isinstance(solid, Union):
+        return any(_curved(part) for part in solid.parts)
+    return False
 
 
 def _exact(solid: Solid) -> None:
     """Raise :class:`NotExact` for a tree holding a piece with no exact form."""
     if isinstance(solid, Extrusion) and solid.exact is None:
         raise NotExact("an extrusion of sampled points only")
-    if isinstance(solid, Mesh):
+    if isinstance(solid, Mesh) and not solid.surfaces:
         raise NotExact("a mesh")
     if isinstance(solid, Revolution):
         raise NotExact("a revolved section of sampled points")
@@ -113,10 +140,51 @@ def _shape(solid: Solid) -> Any:
         for shape in shapes[1:]:
             fused = BRepAlgoAPI_Fuse(fused, shape).Shape()
         return fused
+    if isinstance(solid, Mesh) and solid.surfaces:
+        return _fitted(solid.surfaces)
     what = "a mesh" if isinstance(solid, Mesh) else (
         "a revolved section of sampled points" if isinstance(solid, Revolution) else
         type(solid).__name__)
     raise NotExact(what)
+
+
+def _fitted(grids: tuple[Array, ...]) -> Any:
+    """The closed solid bounded by B-spline surfaces through *grids* (mm; each closed round
+    its first axis), sewn and oriented outward. Each grid is cut round its first axis into
+    :data:`FIT_PATCHES` patches sharing their edge rows, each patch approximated within
+    :data:`FIT_MM` of its points: interpolated surfaces, periodic or not, stray tenths of a
+    millimetre between the rows of the unevenly spaced cam angles, and periodic faces' seams
+    upset the booleans."""
+    from OCP.BRepBuilderAPI import (
+        BRepBuilderAPI_MakeFace,
+        BRepBuilderAPI_MakeSolid,
+        BRepBuilderAPI_Sewing,
+    )
+    from OCP.BRepLib import BRepLib
+    from OCP.GeomAbs import GeomAbs_Shape
+    from OCP.GeomAPI import GeomAPI_PointsToBSplineSurface
+    from OCP.gp import gp_Pnt
+    from OCP.OCP.collections import Array2_gp_Pnt
+    from OCP.TopoDS import TopoDS
+
+    sewing = BRepBuilderAPI_Sewing(SEWING_MM)
+    for grid in grids:
+        count = grid.shape[0]
+        ends = [round(k * count / FIT_PATCHES) for k in range(FIT_PATCHES + 1)]
+        for first, last in itertools.pairwise(ends):
+            patch = grid[np.arange(first, last + 1) % count]
+            rows, columns = patch.shape[:2]
+            points = Array2_gp_Pnt(1, rows, 1, columns)
+            for i in range(rows):
+                for j in range(columns):
+                    x, y, z = patch[i, j]
+                    points.SetValue(i + 1, j + 1, gp_Pnt(float(x), float(y), float(z)))
+            fit = GeomAPI_PointsToBSplineSurface(points, 3, 8, GeomAbs_Shape.GeomAbs_C2, FIT_MM)
+            sewing.Add(BRepBuilderAPI_MakeFace(fit.Surface(), SEWING_MM).Face())
+    sewing.Perform()
+    solid = BRepBuilderAPI_MakeSolid(TopoDS.Shell(sewing.SewedShape())).Solid()
+    BRepLib.OrientClosedSolid_s(solid)
+    return solid
 
 
 def _extrusion(region: tuple[Profile | float, ...], height: float, z: float) -> Any:
@@ -245,6 +313,9 @@ def _volume(solid: Solid) -> float:
         return _area(solid.exact) * solid.height
     if isinstance(solid, Cylinder):
         return math.pi * solid.radius**2 * solid.height
+    if isinstance(solid, Difference) and isinstance(solid.cut, Cylinder):
+        # a bore through a cylinder
+        return _volume(solid.body) - math.pi * solid.cut.radius**2 * _height(solid.body)
     if isinstance(solid, Union):
         return sum(_volume(part) for part in solid.parts)
     if isinstance(solid, Difference) and isinstance(solid.cut, Extrusion) \
@@ -257,15 +328,24 @@ def _volume(solid: Solid) -> float:
     raise NotExact(type(solid).__name__)
 
 
+def _height(solid: Solid) -> float:
+    if isinstance(solid, (Extrusion, Cylinder)):
+        return solid.height
+    raise NotExact(type(solid).__name__)
+
+
 def _area(region: tuple[Profile | float, ...]) -> float:
     """The area (mm²) of an outline less its holes."""
     areas = [math.pi * c * c if isinstance(c, float) else c.area for c in region]
     return areas[0] - sum(areas[1:])
 
 
-def check_step(step: StepFile, solid: Solid, tolerance: float) -> StepCheck:
+def check_step(step: StepFile, solid: Solid, tolerance: float,
+               measured: tuple[float, float] | None = None) -> StepCheck:
     """*step* read back (its bytes, as a CAD program would) and held to *solid* (mm), its volume
-    within *tolerance* (mm) over the surface: see :class:`StepCheck`."""
+    within *tolerance* (mm) over the surface of the exact one, or, for a part with fitted
+    surfaces (no exact volume), of the *measured* one (the STL's volume, mm³, and how far that
+    may be off it): see :class:`StepCheck`."""
     import re
 
     from OCP.BRepCheck import BRepCheck_Analyzer
@@ -278,18 +358,24 @@ def check_step(step: StepFile, solid: Solid, tolerance: float) -> StepCheck:
     area = GProp_GProps()
     BRepGProp.SurfaceProperties_s(shape, area)
     text = step.data.decode("ascii", errors="replace")
+    allowance = tolerance * float(area.Mass())
+    expected = step.volume_mm3
+    if expected is None:
+        assert measured is not None, "a part with fitted surfaces is held to its STL's volume"
+        expected, allowance = measured[0], allowance + measured[1]
     return StepCheck(
         solids=_count_solids(shape),
         expected_solids=step.solids,
         valid=bool(BRepCheck_Analyzer(shape).IsValid()),
         volume_mm3=float(props.Mass()),
-        expected_volume_mm3=step.volume_mm3,
-        volume_allowance_mm3=tolerance * float(area.Mass()),
+        expected_volume_mm3=expected,
+        volume_allowance_mm3=allowance,
         deviation_mm=_deviation(shape, solid),
         tolerance_mm=tolerance,
         circles=len(re.findall(r"=\s*CIRCLE\(", text)),
         cylinders=len(re.findall(r"=\s*CYLINDRICAL_SURFACE\(", text)),
         b_splines=len(re.findall(r"B_SPLINE", text)),
+        fitted=step.curved,
     )
 
 
@@ -327,18 +413,24 @@ def _deviation(shape: Any, solid: Solid) -> float:
     plan)."""
     from OCP.BRepAdaptor import BRepAdaptor_Surface
     from OCP.BRepTools import BRepTools
+    from OCP.GeomAbs import GeomAbs_SurfaceType
     from OCP.TopAbs import TopAbs_FACE
     from OCP.TopExp import TopExp_Explorer
     from OCP.TopoDS import TopoDS
 
     planes = np.array(sorted(_planes(solid)))
     worst = 0.0
+    fitted = []
     explorer = TopExp_Explorer(shape, TopAbs_FACE)
     grid = np.linspace(0.0, 1.0, FACE_GRID)
     while explorer.More():
         face = TopoDS.Face(explorer.Current())
         u0, u1, v0, v1 = BRepTools.UVBounds_s(face)
         surface = BRepAdaptor_Surface(face)
+        if surface.GetType() == GeomAbs_SurfaceType.GeomAbs_BSplineSurface:
+            fitted.append(face)  # measured by the probes of the exact surface, below
+            explorer.Next()
+            continue
         xyz = np.array([surface.Value(u0 + a * (u1 - u0), v0 + b * (v1 - v0)).Coord()
                         for a in grid for b in grid])
         if float(np.ptp(xyz[:, 2])) <= 1e-9:  # a flat face square to Z
@@ -346,6 +438,51 @@ def _deviation(shape: Any, solid: Solid) -> float:
         else:
             worst = max(worst, float(np.max(_contour_distance(solid, xyz[:, :2]))))
         explorer.Next()
+    probes = _probes(solid)
+    if fitted and probes.size:
+        worst = max(worst, _probe_distance(fitted, probes))
+    return worst
+
+
+def _probes(solid: Solid) -> Array:
+    """The exact surface's probes of the tree's meshes (mm)."""
+    if isinstance(solid, Mesh) and solid.probes is not None:
+        return solid.probes
+    if isinstance(solid, Difference):
+        return np.concatenate((_probes(solid.body), _probes(solid.cut)))
+    if isinstance(solid, Union):
+        return np.concatenate([_probes(part) for part in solid.parts])
+    return np.zeros((0, 3))
+
+
+def _probe_distance(faces: list[Any], probes: Array) -> float:
+    """The largest distance (mm) of the *probes* (points of the exact surface) from the
+    nearest of the fitted *faces*, each projected onto their surfaces; only the probes the
+    part keeps are found near a face (a wall's stretch beyond the drum's surface is cut away
+    with the face's), so each probe's distance is the least over the faces."""
+    from OCP.Bnd import Bnd_Box
+    from OCP.BRep import BRep_Tool
+    from OCP.BRepBndLib import BRepBndLib
+    from OCP.GeomAPI import GeomAPI_ProjectPointOnSurf
+    from OCP.gp import gp_Pnt
+
+    surfaces, boxes = [], []
+    for face in faces:
+        box = Bnd_Box()
+        BRepBndLib.Add_s(face, box)
+        surfaces.append(BRep_Tool.Surface_s(face))
+        boxes.append(np.array([box.CornerMin().Coord(), box.CornerMax().Coord()]))
+    worst = 0.0
+    for x, y, z in probes:
+        point = gp_Pnt(float(x), float(y), float(z))
+        best = math.inf
+        for surface, box in zip(surfaces, boxes, strict=True):
+            if not ((box[0] - 1.0 <= (x, y, z)).all() and ((x, y, z) <= box[1] + 1.0).all()):
+                continue  # a face a millimetre or more away
+            projection = GeomAPI_ProjectPointOnSurf(point, surface)
+            if projection.NbPoints():
+                best = min(best, float(projection.LowerDistance()))
+        worst = max(worst, best)
     return worst
 
 

@@ -262,3 +262,43 @@ def groove_lift(d: Drum, vertices: Array, theta: Array, centre: Array) -> tuple[
     low = np.max(np.where(reachable & below, zk + gap, -np.inf), axis=1)
     high = np.min(np.where(reachable & ~below, zk - gap, np.inf), axis=1)
     return low, high
+
+
+#: Points across the floor and across the top in the grids of the exact surfaces.
+SURFACE_ACROSS = 5
+#: The most cam angles (spread over the turn) at which the probes measure the fitted walls.
+PROBE_STATIONS = 60
+
+
+def tube_surfaces(d: Drum, program: MotionProgram, tube: Tube) -> tuple[tuple[Array, ...],
+                                                                        Array]:
+    """The tube as grids of exact points (mm) at its stations, for B-spline surfaces through
+    them: the lower wall and the upper wall over the rows' radii (floor first), the floor across
+    on its circle from the lower wall's foot to the upper's, and the top across beyond the
+    surface (:class:`camfab.export.part.Mesh`); and probes, points of the exact walls halfway
+    between the stations and between the rows, to measure the surfaces by."""
+    theta, radii = tube.stations, tube.radii
+    m = program.evaluate(theta)
+
+    def wall(side: int, t: Array, mm: Array, r: Array) -> Array:
+        w = d.walls(t[:, None], mm[0][:, None], mm[1][:, None], r[None, :])
+        phi, z = (w.phi_lower, w.z_lower) if side < 0 else (w.phi_upper, w.z_upper)
+        return np.concatenate((polar_to_xy(r[None, :], phi), z[..., None]), axis=-1)
+
+    def across(r: float) -> Array:
+        w = d.walls(theta, m[0], m[1], r)
+        f = np.linspace(0.0, 1.0, SURFACE_ACROSS)[None, :]
+        phi = w.phi_lower[:, None] + f * (w.phi_upper - w.phi_lower)[:, None]
+        z = w.z_lower[:, None] + f * (w.z_upper - w.z_lower)[:, None]
+        return np.concatenate((polar_to_xy(r, phi), z[..., None]), axis=-1)
+
+    grids = (wall(-1, theta, m, radii), wall(1, theta, m, radii), across(d.root),
+             across(float(radii[-1])))
+    ahead = np.append(theta[1:], theta[0] + 2 * math.pi)
+    middle = (0.5 * (theta + ahead))[::max(1, math.ceil(theta.size / PROBE_STATIONS))]
+    mid_m = program.evaluate(middle)
+    mid_r = 0.5 * (radii[1:] + radii[:-1])
+    inside = mid_r <= d.radius  # the walls the drum keeps
+    probes = np.concatenate([wall(side, middle, mid_m, mid_r[inside]).reshape(-1, 3)
+                             for side in (-1, 1)])
+    return grids, probes

@@ -209,7 +209,7 @@ def drum_part(analysis: Analysis) -> Part:
     from camfab.export.part import Cylinder, Difference, Mesh, Part
     from camfab.export.stl import circle_segments
     from camfab.geometry.arcfit import fit_arcs
-    from camfab.geometry.drum_mesh import development, groove_tube
+    from camfab.geometry.drum_mesh import development, groove_tube, tube_surfaces
     from camfab.geometry.plate import Contours
 
     design, dense = analysis.design, analysis.drum
@@ -227,7 +227,8 @@ def drum_part(analysis: Analysis) -> Part:
         if d.bore > 0.0:
             body = Difference(body, Cylinder(d.length + 2.0, d.bore,
                                              circle_segments(d.bore, tolerance), -1.0))
-        solid = Difference(body, Mesh(tube.vertices, tube.faces), cut_first=True)
+        grids, probes = tube_surfaces(d, program, tube)
+        solid = Difference(body, Mesh(tube.vertices, tube.faces, grids, probes), cut_first=True)
     # the developed groove: the walls at the surface, closed across the seam
     dev = development(d, program, tolerance)
     band = fit_arcs(np.vstack((dev.lower, dev.upper[::-1])), tolerance)
