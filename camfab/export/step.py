@@ -19,7 +19,6 @@ from __future__ import annotations
 import itertools
 import math
 from dataclasses import dataclass
-from importlib.util import find_spec
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -31,8 +30,6 @@ if TYPE_CHECKING:
     from camfab.arrays import Array
     from camfab.curves.profile import Profile
 
-#: What a design that asks for STEP without the extra is told.
-EXTRA_HINT = "pip install 'camfab[step]'"
 #: The stamp in the header's FILE_NAME: no clock time, so the bytes repeat.
 TIME_STAMP = "2000-01-01T00:00:00"
 #: The read-back measures a grid of this many points each way over each face's parameters.
@@ -44,12 +41,6 @@ FIT_PATCHES = 4
 #: How near (mm) the fitted surfaces' shared edges must be to be sewn into one: a few times
 #: :data:`FIT_MM`, far below any tolerance.
 SEWING_MM = 1e-4
-
-
-def step_available() -> bool:
-    """Whether the OpenCASCADE bindings (the ``step`` extra) are installed (without importing
-    them)."""
-    return find_spec("OCP") is not None
 
 
 class NotExact(ValueError):
