@@ -53,3 +53,10 @@ def clusters(pairs: Index, count: int) -> tuple[int, Index]:
         label = new
     roots, numbered = np.unique(label, return_inverse=True)
     return len(roots), numbered.ravel()
+
+
+def signed_volume(vertices: Array, faces: Index) -> float:
+    """The signed volume (mm³) a closed triangle mesh of (V, 3) *vertices* and (F, 3) *faces*
+    encloses: positive when its faces are wound with the normals outward."""
+    a, b, c = (vertices[faces[:, k]] for k in range(3))
+    return float(np.einsum("ij,ij->i", a, np.cross(b, c)).sum() / 6.0)

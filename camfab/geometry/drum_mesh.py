@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from camfab.arrays import Array, Mask
+from camfab.arrays import Array, Mask, signed_volume
 from camfab.geometry.drum import ANALYSIS_STEP, Drum, polar_to_xy
 from camfab.motion.program import MotionProgram
 
@@ -129,14 +129,9 @@ def groove_tube(d: Drum, program: MotionProgram, tolerance: float) -> Tube:
     e = ((i + 1) % n) * size + j
     faces = np.concatenate((np.stack((a, b, c), -1).reshape(-1, 3),
                             np.stack((a, c, e), -1).reshape(-1, 3)))
-    if _signed_volume(vertices, faces) < 0:
+    if signed_volume(vertices, faces) < 0:
         faces = faces[:, ::-1]
     return Tube(vertices, faces, theta, radii)
-
-
-def _signed_volume(vertices: Array, faces: Array) -> float:
-    a, b, c = (vertices[faces[:, k]] for k in range(3))
-    return float(np.einsum("ij,ij->i", a, np.cross(b, c)).sum() / 6.0)
 
 
 @dataclass(frozen=True)

@@ -30,7 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from camfab.arrays import Array
+from camfab.arrays import Array, signed_volume
 
 
 @dataclass(frozen=True)
@@ -231,14 +231,6 @@ def groove_tube(globoid: Globoid, theta: Array, motion: Array, rows: Array,
     faces = np.concatenate((np.stack((a, c, b), -1).reshape(-1, 3),
                             np.stack((b, c, d), -1).reshape(-1, 3)))
     vertices = points.reshape(-1, 3)
-    if _signed_volume(vertices, faces) < 0.0:
+    if signed_volume(vertices, faces) < 0.0:
         faces = faces[:, ::-1]
     return vertices, faces
-
-
-def _signed_volume(vertices: Array, faces: Array) -> float:
-    """The signed volume (mm³) a closed triangle mesh encloses (positive: normals outward)."""
-    t = vertices[faces]
-    return float(np.einsum("ij,ij->i", t[:, 0], np.cross(t[:, 1], t[:, 2])).sum() / 6.0)
-
-
