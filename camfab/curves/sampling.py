@@ -190,3 +190,20 @@ def arc_points(centre: Array, start: Array, sweep: float, tolerance: float) -> A
     angles = math.atan2(start[1] - centre[1], start[0] - centre[0]) + np.linspace(0.0, sweep,
                                                                                    count + 1)
     return centre + radius * np.stack((np.cos(angles), np.sin(angles)), axis=-1)
+
+
+def spread(segment: Index, theta: Array, density: Array, count: int) -> Array:
+    """Cam angles (rad) spread evenly in the integral of *density* (samples per radian, given
+    at the angles *theta* of a program's segment grid, their *segment* index, *count*
+    segments), segment by segment: at least two in each, its start included and its end left
+    to the next."""
+    out = []
+    for index in range(count):
+        mine = segment == index
+        t, rate = theta[mine], density[mine]
+        cumulative = np.concatenate(([0.0], np.cumsum(0.5 * (rate[1:] + rate[:-1])
+                                                      * np.diff(t))))
+        samples = max(2, math.ceil(cumulative[-1]))
+        out.append(np.interp(np.linspace(0.0, cumulative[-1], samples + 1), cumulative,
+                             t)[:-1])
+    return np.concatenate(out)

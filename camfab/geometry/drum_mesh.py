@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from camfab.arrays import Array, Mask, signed_volume
+from camfab.curves.sampling import spread
 from camfab.geometry.drum import ANALYSIS_STEP, Drum, polar_to_xy
 from camfab.motion.program import MotionProgram
 
@@ -52,16 +53,7 @@ def stations(d: Drum, program: MotionProgram, tolerance: float) -> Array:
         step = np.sqrt(8.0 * tolerance / (rho + d.roller)) * rho / speed
     density = 1.0 / np.where(np.isfinite(step), np.minimum(step, MAX_STATION_STEP),
                              MAX_STATION_STEP)
-    out = []
-    for seg in program.segments:
-        # stations placed evenly in the integral of the density, segment by segment
-        mine = segment == seg.index
-        t, rate = theta[mine], density[mine]
-        cumulative = np.concatenate(([0.0], np.cumsum(0.5 * (rate[1:] + rate[:-1])
-                                                      * np.diff(t))))
-        count = max(2, math.ceil(cumulative[-1]))
-        out.append(np.interp(np.linspace(0.0, cumulative[-1], count + 1), cumulative, t)[:-1])
-    return np.concatenate(out)
+    return spread(segment, theta, density, len(program.segments))
 
 
 def _rows(d: Drum, theta: Array, m: Array, tolerance: float) -> Array:

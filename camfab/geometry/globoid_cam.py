@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from camfab.arrays import Array
+from camfab.curves.sampling import spread
 from camfab.geometry.globoid import Globoid, groove_tube, to_cam
 from camfab.motion.program import cycle_angles
 
@@ -254,15 +255,7 @@ def stations(blank: GloboidCam, program: MotionProgram, rows: Array, tolerance: 
     segment, theta, _ = program.segment_grid(ANALYSIS_STEP)
     density = np.interp(theta, even, density, period=2 * math.pi)
     density = np.maximum(density, 1.0 / MAX_STATION_STEP)
-    out = []
-    for seg in program.segments:
-        mine = segment == seg.index
-        t, rate = theta[mine], density[mine]
-        cumulative = np.concatenate(([0.0], np.cumsum(0.5 * (rate[1:] + rate[:-1])
-                                                      * np.diff(t))))
-        count = max(2, math.ceil(cumulative[-1]))
-        out.append(np.interp(np.linspace(0.0, cumulative[-1], count + 1), cumulative, t)[:-1])
-    placed = np.concatenate(out)
+    placed = spread(segment, theta, density, len(program.segments))
     for _ in range(8):  # halve the chords that stray
         ahead = np.append(placed[1:], placed[0] + 2 * math.pi)
         middle = 0.5 * (placed + ahead)
