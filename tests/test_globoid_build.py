@@ -100,7 +100,7 @@ def _groove_volume(blank: GloboidCam, program: MotionProgram, step: float = 0.6,
     the plane of the roller's axis and the contact normal within the wall's radius of the axis
     and between the tube's top and floor along it (the strip the groove sweeps)."""
     g = blank.follower
-    top, floor = blank.tube_rows()
+    top, floor = blank.tube_span()
     near, far = sorted((top, floor))
     # the meridian grid: (r, z) cells inside the blank and near the groove's band
     r_grid = np.arange(blank.bore + step / 2, g.centre + blank.surface, step)

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -112,17 +113,20 @@ class GloboidCam:
         bulges = np.array([0.0, math.tan(sweep / 4.0), 0.0, 0.0])
         return Profile(vertices, bulges)
 
-    def tube_rows(self) -> tuple[float, float]:
+    def tube_span(self) -> tuple[float, float]:
         """The tube's top (outside the blank) and floor, along the arm (mm)."""
         g = self.follower
         margin = TOP_MARGIN_MM + g.radius * g.radius / self.surface
         return self.surface - self.inward * margin, self.floor
 
 
-def globoid_cam(design: Design, program: MotionProgram) -> GloboidCam:
+@lru_cache(maxsize=4)
+def globoid_cam(design: Design) -> GloboidCam:
     """The globoidal cam of *design* (validated): its blank's size as given or by default
-    (:func:`default_surface`, :func:`default_width`)."""
-    cam = design.cam
+    (:func:`default_surface`, :func:`default_width`). Kept for the last few designs: the kind's
+    rules ask for it as the design is loaded, its analysis again (the default floor's search
+    costs some 0.1 s)."""
+    cam, program = design.cam, design.program
     follower = follower_of(design, program)
     inward = 1.0 if cam.globoid == "concave" else -1.0
     depth = cam.groove_depth or 0.0
@@ -259,11 +263,11 @@ def stations(blank: GloboidCam, program: MotionProgram, rows: Array, tolerance: 
     for _ in range(8):  # halve the chords that stray
         ahead = np.append(placed[1:], placed[0] + 2 * math.pi)
         middle = 0.5 * (placed + ahead)
+        motion = [program.evaluate(t)[:, None, :] for t in (placed, ahead, middle)]
         worst = np.zeros(placed.size)
         for side in (1, -1):
-            a = g.flank(placed[None, :], ell, program.evaluate(placed)[:, None, :], side)
-            c = g.flank(ahead[None, :], ell, program.evaluate(ahead)[:, None, :], side)
-            mid = g.flank(middle[None, :], ell, program.evaluate(middle)[:, None, :], side)
+            a, c, mid = (g.flank(t[None, :], ell, m, side)
+                         for t, m in zip((placed, ahead, middle), motion, strict=True))
             worst = np.maximum(worst, _chord_miss(mid, a, c).max(axis=0))
         stray = worst > tolerance
         if not stray.any():
@@ -288,7 +292,7 @@ def tube_rows(blank: GloboidCam, program: MotionProgram, tolerance: float) -> Ar
     floor: as many equal steps as keep the straight pieces between rows within *tolerance*
     (mm) of the exact flanks at every cam angle."""
     g = blank.follower
-    top, floor = blank.tube_rows()
+    top, floor = blank.tube_span()
     _, _, m = program.segment_grid(ANALYSIS_STEP * 4)
     count = 2
     while True:

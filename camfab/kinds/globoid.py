@@ -215,7 +215,7 @@ class Globoidal:
         the bore, the blank's ends past the groove."""
         from camfab.geometry.globoid_cam import globoid_cam
 
-        check_blank(design, globoid_cam(design, design.program))
+        check_blank(design, globoid_cam(design))
 
     @staticmethod
     def analyse(design: Design, program: MotionProgram, units: MotionUnits,
@@ -228,7 +228,7 @@ class Globoidal:
         )
         from camfab.geometry.globoid_cam import globoid_cam
 
-        dense = globoid_dense(globoid_cam(design, program), program)
+        dense = globoid_dense(globoid_cam(design), program)
         numbers = globoid_numbers(dense, program)
         findings = [*globoid_findings(design, dense, numbers), *findings]
         return Analysis(design, program, units, stats, findings, GloboidResult(dense, numbers))
