@@ -14,11 +14,10 @@ from __future__ import annotations
 import argparse
 import statistics
 import sys
-import tempfile
 import time
 from pathlib import Path
 
-from timing import ROOT, compile_package, wall
+from timing import ROOT, build_time
 
 DEFAULT_DESIGN = ROOT / "designs" / "demo-cylindrical.yaml"
 
@@ -46,15 +45,6 @@ def solid_time(design_path: Path, runs: int) -> tuple[float, int]:
         data = render_stl(solid).data
         times.append(time.perf_counter() - start)
     return statistics.median(times), int.from_bytes(data[80:84], "little")
-
-
-def build_time(design_path: Path, runs: int) -> float:
-    """Median wall seconds of ``camfab build`` in a fresh process."""
-    compile_package()
-    with tempfile.TemporaryDirectory() as folder:
-        command = [sys.executable, "-m", "camfab", "build", str(design_path), "-o", folder]
-        times = [wall(command) for _ in range(runs + 1)]
-    return statistics.median(times[1:])
 
 
 def main() -> int:

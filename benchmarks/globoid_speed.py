@@ -16,11 +16,10 @@ from __future__ import annotations
 import argparse
 import statistics
 import sys
-import tempfile
 import time
 from pathlib import Path
 
-from timing import ROOT, compile_package, wall
+from timing import ROOT, build_time
 
 DESIGNS = sorted((ROOT / "designs").glob("demo-globoidal-*.yaml"))
 MAX_BUILD_S = 5.0
@@ -54,15 +53,6 @@ def steps(design_path: Path, runs: int) -> tuple[dict[str, float], int, int]:
         faces = int.from_bytes(files.stl.data[80:84], "little")
         vertices = len(part.made.vertices)
     return ({name: statistics.median(t[1:]) for name, t in times.items()}, vertices, faces)
-
-
-def build_time(design_path: Path, runs: int) -> float:
-    """Median wall seconds of ``camfab build`` in a fresh process."""
-    compile_package()
-    with tempfile.TemporaryDirectory() as folder:
-        command = [sys.executable, "-m", "camfab", "build", str(design_path), "-o", folder]
-        times = [wall(command) for _ in range(runs + 1)]
-    return statistics.median(times[1:])
 
 
 def main() -> int:

@@ -64,3 +64,15 @@ def median_seconds(job: Callable[[], Any], runs: int, warm: int = 1) -> float:
     for _ in range(warm):
         job()
     return statistics.median(seconds(job) for _ in range(runs))
+
+
+def build_time(design_path: Path, runs: int) -> float:
+    """Median wall seconds of ``camfab build DESIGN`` (every output) in a fresh process, after
+    one run that is not counted."""
+    import tempfile
+
+    compile_package()
+    with tempfile.TemporaryDirectory() as folder:
+        command = [sys.executable, "-m", "camfab", "build", str(design_path), "-o", folder]
+        times = [wall(command) for _ in range(runs + 1)]
+    return statistics.median(times[1:])
