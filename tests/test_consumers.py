@@ -75,13 +75,13 @@ def test_openscad_extrudes_the_cut_layer_to_our_volume(path: Path, tmp_path: Pat
 
 
 def less_prism(tmp_path: Path, name: str, y: float, r: float, height: float,
-               sides: int) -> tuple[float, float]:
+               sides: int, z: float = -1.0) -> tuple[float, float]:
     """OpenSCAD imports our STL and takes an upright prism of *sides* (radius *r*, centred at
-    (0, *y*), from z = −1 up *height*) out of it; the result must be a clean closed solid.
+    (0, *y*), from *z* up *height*) out of it; the result must be a clean closed solid.
     Returns its volume and our STL's (mm³)."""
     mesh, messages = openscad(tmp_path, (
         f'difference() {{ import("{name}.stl"); '
-        f'translate([0, {y!r}, -1]) cylinder(r={r!r}, h={height!r}, $fn={sides}); }}\n'))
+        f'translate([0, {y!r}, {z!r}]) cylinder(r={r!r}, h={height!r}, $fn={sides}); }}\n'))
     assert "WARNING" not in messages and "ERROR" not in messages, messages
     assert mesh.is_watertight and mesh.is_winding_consistent
     ours = trimesh.load(tmp_path / f"{name}.stl", file_type="stl")
@@ -123,15 +123,10 @@ def test_openscad_takes_the_globoid_into_a_boolean(path: Path, tmp_path: Path) -
     # a 96-gon through the blank's whole width, between the bore and the groove's floor
     solid_to = min(numbers.floor_radius, numbers.flank_radius, blank.ends_radius())
     r = (inner + solid_to) / 2
-    height = blank.width + 2.0
-    mesh, messages = openscad(tmp_path, (
-        f'difference() {{ import("{design.name}.stl"); '
-        f'cylinder(r={r!r}, h={height!r}, center=true, $fn=96); }}\n'))
-    assert "WARNING" not in messages and "ERROR" not in messages, messages
-    assert mesh.is_watertight and mesh.is_winding_consistent
-    ours = trimesh.load(tmp_path / f"{design.name}.stl", file_type="stl")
+    volume, ours = less_prism(tmp_path, design.name, 0.0, r, blank.width + 2.0, 96,
+                              -blank.width / 2.0 - 1.0)
     removed = (48 * r * r * math.sin(2 * math.pi / 96) - math.pi * inner * inner) * blank.width
-    assert mesh.volume == pytest.approx(ours.volume - removed, rel=1e-4)
+    assert volume == pytest.approx(ours - removed, rel=1e-4)
 
 
 #: What admesh must not have had to repair. ("Normals fixed" is left out: admesh recomputes the
