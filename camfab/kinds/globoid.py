@@ -277,12 +277,12 @@ def check_blank(design: Design, blank: GloboidCam) -> None:
         fail(("cam", "width"), "is wider than the barrel: its ends would pass the cam axis")
     floor_r, corner_r, reach_z = groove_extent(blank, design.program)
     least = min(floor_r, corner_r)
+    if least < wall_need():  # the blank's size puts the floor at the axis, whatever the bore
+        fail(given, f"takes the groove's floor to within {mm(least)} of the cam axis; it must "
+             f"stay {MIN_WALL_MM:g} mm clear of it")
     if least < wall_need(cam.bore or 0.0):
-        if cam.bore is not None:
-            fail(("cam", "bore"), f"reaches the groove's floor (it comes within {mm(least)} of "
-                 f"the cam axis; the bore must leave {MIN_WALL_MM:g} mm under it)")
-        fail(("cam", "groove_depth"), f"takes the groove's floor to within {mm(least)} of the "
-             f"cam axis; it must stay {MIN_WALL_MM:g} mm clear of it")
+        fail(("cam", "bore"), f"reaches the groove's floor (it comes within {mm(least)} of the "
+             f"cam axis; the bore must leave {MIN_WALL_MM:g} mm under it)")
     if cam.width is not None and reach_z + MIN_WALL_MM > cam.width / 2.0:
         fail(("cam", "width"), f"the groove reaches z = ±{mm(reach_z)}: the blank must be at "
              f"least {mm(2 * (reach_z + MIN_WALL_MM))} wide to leave {MIN_WALL_MM:g} mm walls")
