@@ -207,6 +207,8 @@ CONCAVE = (DESIGNS / "demo-globoidal-concave.yaml").read_text()
     ("  bore: 30\n", "  bore: 30\n  outer_radius: 131\n", "cam.outer_radius",
      "less than pivot_distance"),
     ("bore: 30", "bore: 120", "cam.bore", "reaches the groove's floor"),
+    ("  bore: 30\n", "  bore: 30\n  outer_radius: 10\n", "cam.outer_radius",
+     "takes the groove's floor to within"),
     ("  arm_length: 60\n", "  arm_length: 60\n  rest_angle: 50\n", "follower.rest_angle",
      "must stay within"),
 ])
