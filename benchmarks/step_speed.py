@@ -2,10 +2,11 @@
 
     python benchmarks/step_speed.py [DESIGN ...] [--runs N]
 
-For each design (by default a disc cam, seed-10-4, a conjugate pair, demo-conjugate, and a drum
-cam, demo-cylindrical) the two builds alternate in one run, medians of N; then in process, the
-libraries loaded, the STEP written and read back (its check; a drum's held to its STL's volume)
-for the part. Needs the ``step`` extra (``pip install 'camfab[step]'``).
+For each design (by default a disc cam, seed-10-4, a conjugate pair, demo-conjugate, a drum
+cam, demo-cylindrical, and a globoidal cam, demo-globoidal-convex) the two builds alternate in
+one run, medians of N; then in process, the libraries loaded, the STEP written and read back (its
+check; a drum's or a globoid's held to its STL's volume) for the part. Needs the ``step`` extra
+(``pip install 'camfab[step]'``).
 """
 
 from __future__ import annotations
@@ -20,7 +21,8 @@ from pathlib import Path
 from timing import ROOT, compile_package, wall
 
 DESIGNS = [ROOT / "designs" / name for name in
-           ("seed-10-4.yaml", "demo-conjugate.yaml", "demo-cylindrical.yaml")]
+           ("seed-10-4.yaml", "demo-conjugate.yaml", "demo-cylindrical.yaml",
+            "demo-globoidal-convex.yaml")]
 
 
 def builds(path: Path, runs: int) -> tuple[float, float]:

@@ -182,6 +182,7 @@ def verify_exports(analysis: Analysis, requested: tuple[str, ...]) -> tuple[Anal
     part = kind.part(analysis)
     made = serialise(analysis.design, part, requested)
     analysis, check = kind.verify(analysis, part, made)
+    files, not_made = made.files, made.withheld
     if made.step is not None:
         from camfab.export.step import check_step
 
@@ -190,11 +191,15 @@ def verify_exports(analysis: Analysis, requested: tuple[str, ...]) -> tuple[Anal
         measured = None if made.stl is None else (made.stl.volume_mm3,
                                                   tolerance * made.stl.area_mm2)
         check = replace(check, step=check_step(made.step, part.solid, tolerance, measured))
-    withheld = {k: v for k, v in {**part.withheld, **made.withheld}.items() if k in requested}
+        if not check.step.ok:  # no STEP rather than a wrong one
+            files = {k: v for k, v in files.items() if k != "step"}
+            not_made = {**not_made, "step": "the solid OpenCASCADE made of the part did not "
+                        "read back as the part (see the verification check)"}
+    withheld = {k: v for k, v in {**part.withheld, **not_made}.items() if k in requested}
     if withheld:  # the report says what was not made, and why
         check = replace(check, withheld=tuple(withheld.items()))
     findings = [*analysis.findings, verification_finding(analysis, check)]
-    wanted = {name: data for name, data in made.files.items() if name in requested}
+    wanted = {name: data for name, data in files.items() if name in requested}
     return (replace(analysis, verification=check, findings=findings),
             Exports(wanted, withheld))
 

@@ -247,7 +247,7 @@ def test_a_disc_cam_keeps_the_design_files_default_tolerance() -> None:
     assert disc.manufacturing.tolerance == DEFAULT_TOLERANCE_MM
 
 
-def test_an_undercut_globoid_fails_and_writes_no_stl() -> None:
+def test_an_undercut_globoid_fails_and_writes_no_stl_nor_step() -> None:
     text = (CONCAVE.replace("pivot_distance: 130", "pivot_distance: 90")
             .replace("arm_length: 60", "arm_length: 50")
             .replace("roller_radius: 8", "roller_radius: 14")
@@ -257,13 +257,16 @@ def test_an_undercut_globoid_fails_and_writes_no_stl() -> None:
             .replace("dwell:  {angle: 30}", "dwell:  {angle: 120}", 1)
             .replace("pressure_angle: 40", "pressure_angle: 85"))
     design = design_from_text(text)
+    design = design.model_copy(update={"outputs": ("dxf", "stl", "step")})
     analysis = analyse(design)
     undercut = next(f for f in analysis.findings if f.id == "undercut")
     assert not undercut.ok and undercut.ranges_deg, undercut.message
     artifacts = render(analysis)
     assert f"{design.name}.stl" not in artifacts.files
-    assert any(line.startswith("stl (a flank of the groove folds")
-               for line in artifacts.not_produced)
+    assert f"{design.name}.step" not in artifacts.files
+    for output in ("stl", "step"):
+        assert any(line.startswith(f"{output} (a flank of the groove folds")
+                   for line in artifacts.not_produced), artifacts.not_produced
     with pytest.raises(DesignError):
         design_from_text(text.replace("type: roller", "type: flat"))
 

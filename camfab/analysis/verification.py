@@ -92,7 +92,8 @@ class StepCheck:
     circles: int
     cylinders: int
     b_splines: int
-    #: The part has surfaces fitted through exact points (B-splines: a drum's groove walls).
+    #: The part has surfaces fitted through exact points (B-splines: a drum's or a globoid's
+    #: groove), its volume held to the STL's.
     fitted: bool = False
 
     @property

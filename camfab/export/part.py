@@ -162,10 +162,12 @@ class Cylinder:
 @dataclass(frozen=True)
 class Revolution:
     """The region of the closed chain *section* of (N, 2) points (r, z) (mm, r ≥ 0) revolved
-    about Z as a polygon of *segments* sides."""
+    about Z as a polygon of *segments* sides; with the same section *exact*ly, as the contour of
+    lines and arcs the chain samples, for the writers of exact solids (STEP)."""
 
     section: Array
     segments: int
+    exact: Profile | None = None
 
 
 @dataclass(frozen=True)

@@ -498,3 +498,45 @@ def mesh_edges(vertices: Array, faces: Array, keep: Array | None = None) -> Arra
     if keep is not None:
         edges = edges[keep[edges[:, 0]] | keep[edges[:, 1]]]
     return vertices[edges]
+
+
+#: Points across the floor and the top in the grids of the exact surfaces.
+SURFACE_ACROSS = 5
+#: The most cam angles (spread over the turn) at which the probes measure the fitted flanks.
+PROBE_STATIONS = 60
+
+
+def tube_surfaces(blank: GloboidCam, program: MotionProgram, made: Tube) -> tuple[
+        tuple[Array, ...], Array]:
+    """The tube as grids of exact points on the cam (mm) at its stations, for B-spline surfaces
+    through them: the flank on the + side and on the − side over the rows (top first), the
+    floor across from + to − and the top across likewise (:class:`camfab.export.part.Mesh`);
+    and probes, points of the exact flanks inside the blank and of the floor, halfway between
+    the stations and between the rows (across the floor, between the grid's points), to measure
+    the surfaces by."""
+    g = blank.follower
+    theta, rows = made.stations, made.rows
+    m = program.evaluate(theta)
+
+    def across(t: Array, mt: Array, ell: float, u: Array) -> Array:
+        psi = g.rest + mt[0][:, None]
+        frame = (g.axis_point(np.full((t.size, 1), ell), psi)
+                 + (g.radius * u)[None, :, None]
+                 * g.normal(np.full((t.size, 1), ell), psi, mt[1][:, None]))
+        return to_cam(frame, g.sigma * t[:, None])
+
+    u = np.linspace(1.0, -1.0, SURFACE_ACROSS)
+    plus, minus = (g.flank(theta[:, None], rows[None, :], m[:, :, None], side)
+                   for side in (1, -1))
+    grids = (plus, minus, across(theta, m, float(rows[-1]), u),
+             across(theta, m, float(rows[0]), u))
+    ahead = np.append(theta[1:], theta[0] + 2 * math.pi)
+    middle = (0.5 * (theta + ahead))[::max(1, math.ceil(theta.size / PROBE_STATIONS))]
+    mid_rows = 0.5 * (rows[1:] + rows[:-1])
+    low, high = sorted((blank.surface, blank.floor))
+    mid_rows = mid_rows[(mid_rows >= low) & (mid_rows <= high)]
+    mid_m = program.evaluate(middle)
+    flanks = [g.flank(middle[:, None], mid_rows[None, :], mid_m[:, :, None], side).reshape(-1, 3)
+              for side in (1, -1)]
+    floor = across(middle, mid_m, float(rows[-1]), 0.5 * (u[1:] + u[:-1])).reshape(-1, 3)
+    return grids, np.concatenate((*flanks, floor))

@@ -299,7 +299,7 @@ def globoid_part(analysis: Analysis) -> Part:
     from camfab.curves.sampling import SAMPLING_SHARE
     from camfab.export.part import Difference, Mesh, Part, Revolution
     from camfab.export.stl import circle_segments
-    from camfab.geometry.globoid_cam import tube
+    from camfab.geometry.globoid_cam import tube, tube_surfaces
     from camfab.geometry.plate import Contours
 
     design, dense = analysis.design, analysis.globoid
@@ -317,9 +317,10 @@ def globoid_part(analysis: Analysis) -> Part:
     else:
         points = section.points(tolerance)
         radius = float(np.max(points[:, 0]))
-        body = Revolution(points, circle_segments(radius, tolerance))
-        solid = Difference(body, Mesh(groove.vertices, groove.faces), cut_first=True,
-                           tolerance=MERGE_SHARE * tolerance)
+        body = Revolution(points, circle_segments(radius, tolerance), section)
+        grids, probes = tube_surfaces(blank, program, groove)
+        solid = Difference(body, Mesh(groove.vertices, groove.faces, grids, probes),
+                           cut_first=True, tolerance=MERGE_SHARE * tolerance)
     drawing = _section_drawing(analysis, blank, tolerance)
     return Part({design.name: drawing}, {design.name: (Contours((section,)), None)}, solid,
                 needs=("dxf", "stl"), withheld=withheld, made=groove)

@@ -174,13 +174,15 @@ def verification_finding(analysis: Analysis, check: Verification) -> Finding:
     step = check.step
     if step is not None:
         shape = ("valid" if step.valid and step.solids == step.expected_solids
-                 and step.b_splines == 0 else
+                 and (step.fitted or step.b_splines == 0) else
                  f"NOT as made (valid: {step.valid}, solids: {step.solids} of "
                  f"{step.expected_solids}, B-splines: {step.b_splines})")
+        against = ("the STL's" if step.fitted else "the part's exact")
+        off = ("the exact surfaces" if step.fitted else "the part's contours")
         parts.append(f"the STEP reads back {shape}, {step.solids} solid(s), {step.circles} "
                      f"circles and {step.cylinders} cylinders, {step.volume_mm3:.6g} mm³ against "
-                     f"the part's exact {step.expected_volume_mm3:.6g}, its faces "
-                     f"{step.deviation_mm:.3g} mm at most off the part's contours")
+                     f"{against} {step.expected_volume_mm3:.6g}, its faces "
+                     f"{step.deviation_mm:.3g} mm at most off {off}")
     ok = lift_ok and (stl is None or stl.ok) and (step is None or step.ok)
     applicable = value is not None or (stl is not None and not stl.ok) or (
         step is not None and not step.ok)
