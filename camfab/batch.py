@@ -58,8 +58,8 @@ def run_all(paths: Sequence[str], out_dir: Path | None, jobs: int, task: Task,
     """*task* on every design of *paths*, in *jobs* worker processes (1: in this process), the
     outcomes in the order of *paths*; *progress* shows a bar on stderr. *preload* imports what
     *task* needs: called once in this process before the workers are forked from it, when
-    workers run and the platform forks (see :func:`_pool`)."""
-    bar = _bar(len(paths)) if progress else None
+    workers run and the platform forks (see :func:`worker_pool`)."""
+    bar = progress_bar(len(paths)) if progress else None
     try:
         if jobs == 1 or len(paths) == 1:
             outcomes = []
@@ -71,9 +71,9 @@ def run_all(paths: Sequence[str], out_dir: Path | None, jobs: int, task: Task,
         from concurrent.futures import as_completed
 
         results: list[Outcome | None] = [None] * len(paths)
-        pool = _pool(min(jobs, len(paths)), preload)
+        pool = worker_pool(min(jobs, len(paths)), preload)
         try:
-            with _signals_held():  # the pool is set up whole; the workers ignore Ctrl-C
+            with signals_held():  # the pool is set up whole; the workers ignore Ctrl-C
                 futures = {pool.submit(_timed, task, path, out_dir): i
                            for i, path in enumerate(paths)}
             for future in as_completed(futures):
@@ -82,10 +82,10 @@ def run_all(paths: Sequence[str], out_dir: Path | None, jobs: int, task: Task,
                     bar.update(1)
         except BaseException:  # Ctrl-C, SIGTERM: the designs being built are finished (their
             # files written whole), the others not started
-            with _signals_held():  # a second signal must not break off the shutdown
+            with signals_held():  # a second signal must not break off the shutdown
                 pool.shutdown(wait=True, cancel_futures=True)
             raise
-        with _signals_held():
+        with signals_held():
             pool.shutdown()
         return [r for r in results if r is not None]
     finally:
@@ -93,7 +93,7 @@ def run_all(paths: Sequence[str], out_dir: Path | None, jobs: int, task: Task,
             bar.render_finish()
 
 
-def _pool(workers: int, preload: Callable[[], object] | None) -> ProcessPoolExecutor:
+def worker_pool(workers: int, preload: Callable[[], object] | None) -> ProcessPoolExecutor:
     """A pool of *workers* processes, forked from this one after *preload* where the platform
     forks: they start with what *preload* imported instead of each importing it again, and with
     this process's signal handlers, as :func:`_worker` expects.
@@ -117,7 +117,7 @@ def _pool(workers: int, preload: Callable[[], object] | None) -> ProcessPoolExec
         if preload is not None:
             # a stop waits for the imports (broken off, they leave noise); an import that fails
             # fails again in each design's build, which reports it as that design's error
-            with _signals_held(), suppress(Exception):
+            with signals_held(), suppress(Exception):
                 preload()
         gc.freeze()
         context = multiprocessing.get_context("fork")
@@ -129,7 +129,7 @@ _STOPPING = ("SIGINT", "SIGTERM", "SIGHUP")
 
 
 @contextmanager
-def _signals_held() -> Iterator[None]:
+def signals_held() -> Iterator[None]:
     """Hold the signals that stop camfab while the pool of workers is set up: a stop raised
     inside ``submit``, between forking the workers and starting the thread that feeds them,
     leaves workers that wait for work forever and a process that waits for them at exit. The
@@ -185,10 +185,11 @@ def same_names(paths: Sequence[str]) -> dict[int, Outcome]:
     return refused
 
 
-def _bar(count: int) -> Any:
+def progress_bar(count: int, label: str = "building") -> Any:
+    """A progress bar of *count* steps on stderr, drawn at once."""
     import click
 
-    bar = click.progressbar(length=count, label="building", file=click.get_text_stream("stderr"),
+    bar = click.progressbar(length=count, label=label, file=click.get_text_stream("stderr"),
                             show_pos=True, show_eta=True)
     bar.render_progress()
     return bar

@@ -25,6 +25,7 @@ from camfab.stopping import defer
 if TYPE_CHECKING:
     from camfab.analysis.record import Analysis
     from camfab.inspect import Inspection, InspectOptions
+    from camfab.sweep.run import SweepOptions
 
 STARTER_KINDS = ("disc-roller", "disc-knife", "disc-flat", "disc-mushroom", "oscillating",
                  "oscillating-flat", "cylindrical", "circular-arc", "tangent", "groove",
@@ -267,6 +268,74 @@ def _size_one(path: str, with_offset: bool, with_pivot: bool) -> Outcome:
                           f"on a plate cam; this design's follower is {fol.motion}")
     sizing = size_design(design, sized, with_pivot)
     return Outcome(0 if sizing.size is not None else 1, out=sizing_lines(design, sizing))
+
+
+@main.command()
+@click.argument("design")
+@click.option("--vary", multiple=True, metavar="PATH=SPEC",
+              help="Vary a key of the design: PATH such as cam.base_radius, follower.offset, "
+                   "motion[0].law; SPEC a range START:STOP:STEP, a list a,b,c or "
+                   "log:START:STOP:N. Repeat for more keys: the variants are their product.")
+@click.option("--variants", type=click.Path(path_type=Path), metavar="FILE.csv",
+              help="The variants as a CSV file: a header of PATHs, one row of values each.")
+@click.option("-o", "--output", "out_dir", type=click.Path(file_okay=False, path_type=Path),
+              help="Write the table and page into DIR instead of exports/<name>-sweep/.",
+              metavar="DIR")
+@click.option("-j", "--jobs", type=click.IntRange(1, 256), default=None,
+              help="Worker processes (default: all the processors).")
+@click.option("--scheduler", metavar="tcp://HOST:8786",
+              help="Run on the Dask cluster of this scheduler (needs camfab[cluster]).")
+@click.option("--size", is_flag=True,
+              help="Also find each variant's least base radius (a drum's radius) that meets its "
+                   "limits (some 0.05 s a variant).")
+@click.option("--build-best", type=click.IntRange(0, 1000), default=0, metavar="K",
+              help="Build the files of the K best variants by the objective.")
+@click.option("--minimize", metavar="COLUMN", help="The objective: a numeric column to minimise "
+              "(a varied key such as cam.base_radius, or a key number).")
+@click.option("--maximize", metavar="COLUMN", help="The objective: a numeric column to maximise.")
+@click.option("--format", "table_format", type=click.Choice(["parquet", "csv"]),
+              help="The table's format (default: Parquet when pyarrow is installed, else CSV).")
+@click.option("--progress/--no-progress", default=None,
+              help="Show a progress bar on stderr (default: when stderr is a terminal).")
+def sweep(design: str, vary: tuple[str, ...], variants: Path | None, out_dir: Path | None,
+          jobs: int | None, scheduler: str | None, size: bool, build_best: int,
+          minimize: str | None, maximize: str | None, table_format: str | None,
+          progress: bool | None) -> None:
+    """Sweep DESIGN over varied keys: validate and analyse every variant (no files), one row of
+    key numbers each (status OK, FAIL or INVALID; pressure angle, curvature, undercut, motion
+    maxima, face width, jump speed, contact force) in a table (NAME-sweep.parquet or .csv) and a
+    summary page with the feasible region (NAME-sweep.html). Exit 0 when the sweep ran, 2 for
+    bad options, 1 when a best variant's build fails."""
+    from camfab.sweep.run import SweepOptions
+
+    if progress is None:
+        progress = click.get_text_stream("stderr").isatty()
+    options = SweepOptions(Path(design), vary, variants, out_dir,
+                           jobs or _processors(), scheduler, size, build_best, minimize,
+                           maximize, table_format, progress)
+    sys.exit(_finish([_guarded(design, lambda: _sweep_one(options))]))
+
+
+def _processors() -> int:
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else \
+        (os.cpu_count() or 1)
+
+
+def _sweep_one(options: SweepOptions) -> Outcome:
+    from camfab.sweep.run import plan, run
+
+    sweep = plan(options)
+    done = run(sweep, click.echo)
+    c = done.counts
+    rate = f" ({done.rows / done.seconds:.1f} a second)" if done.seconds > 0 else ""
+    lines = [f"{sweep.name}: {done.rows:,} variants — {c['OK']:,} OK, {c['FAIL']:,} FAIL, "
+             f"{c['INVALID']:,} INVALID — in {done.seconds:.1f} s{rate}",
+             f"  {done.table}", f"  {done.page}"]
+    code = 0
+    for folder, status in done.built:
+        lines.append(f"  built {folder}/ ({ {0: 'OK', 1: 'FAIL'}.get(status, 'INVALID') })")
+        code = max(code, status)
+    return Outcome(code, out=lines)
 
 
 @main.command()

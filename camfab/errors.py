@@ -43,6 +43,9 @@ class DesignError(CamfabError, ValueError):
         The valid choices or range, shown after ``allowed:``.
     hint
         A suggestion such as ``did you mean 'cycloidal'?``.
+    kind
+        What kind of value the schema refused, pydantic's error type (``float_parsing``,
+        ``literal_error``, ``extra_forbidden``, ...); empty for a broken design rule.
     """
 
     def __init__(
@@ -55,8 +58,10 @@ class DesignError(CamfabError, ValueError):
         allowed: Sequence[str] | str | None = None,
         hint: str | None = None,
         show_got: bool = True,
+        kind: str = "",
     ) -> None:
         self.problem = problem
+        self.kind = kind
         self.field = field or (location.field if location else "")
         self.location = location
         self.got = got

@@ -52,12 +52,14 @@ def design_from_text(text: str, file: str = "<design>", folder: Path = Path(".")
     return read(text, file, folder, check_design, sized_values)
 
 
-def design_from_mapping(data: dict[str, Any], file: str = "<design>") -> Design:
-    """A design from already-parsed data, checked as :func:`load_design` checks a file's."""
+def design_from_mapping(data: dict[str, Any], file: str = "<design>",
+                        folder: Path = Path(".")) -> Design:
+    """A design from already-parsed data, checked as :func:`load_design` checks a file's (the
+    files it names found from *folder*)."""
     from camfab.design import design_from_mapping as read
     from camfab.kinds import check_design
 
-    return read(data, file, check_design, sized_values)
+    return read(data, file, check_design, sized_values, folder)
 
 
 def size_design(design: Design, keys: frozenset[str], pivot: bool = False) -> Sizing:
@@ -103,9 +105,11 @@ def sized_values(design: Design, keys: frozenset[str]) -> Sized:
         rounded_to=sizing.rounded_to)
 
 
-def analyse(design: Design) -> Analysis:
+def analyse(design: Design, advice: bool = True) -> Analysis:
     """Compute the motion, its kinematics, the cam's geometry, the dynamics and the checks of
-    *design*: the checks every cam has, then its kind's analysis, then the dynamics."""
+    *design*: the checks every cam has, then its kind's analysis, then the dynamics; with
+    *advice*, each failed check a sizing answers told the size that passes (a search of some
+    tenths of a second)."""
     from dataclasses import replace
 
     from camfab.analysis.cam_checks import bore_finding
@@ -119,7 +123,9 @@ def analyse(design: Design) -> Analysis:
     bore = bore_finding(design, kind.mounted)
     findings = [*findings, *([bore] if bore is not None else [])]
     stats = segment_stats(program, steps, units, omega)
-    analysis = _with_advice(kind.analyse(design, program, units, stats, findings))
+    analysis = kind.analyse(design, program, units, stats, findings)
+    if advice:
+        analysis = _with_advice(analysis)
     if design.follower.mass is None or kind.drives_both_ways:
         # a groove, a conjugate pair or a yoke drives its follower both ways: no spring to
         # size, and the forces on either side are theirs (camfab.geometry.groove, .conjugate)
@@ -285,7 +291,7 @@ def write_files(folder: Path, files: Mapping[str, bytes]) -> list[Path]:
     temps: list[tuple[Path, Path]] = []
     try:
         for name, data in files.items():
-            temp = folder / _temp_name(name)
+            temp = folder / temp_name(name)
             handle = os.open(temp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | _O_BINARY, 0o666)
             temps.append((temp, folder / name))
             with os.fdopen(handle, "wb") as stream:
@@ -308,7 +314,7 @@ _O_BINARY = getattr(os, "O_BINARY", 0)
 STALE_TEMP_SECONDS = 24 * 3600
 
 
-def _temp_name(name: str) -> str:
+def temp_name(name: str) -> str:
     """``.NAME.PID.RANDOM.tmp``: hidden, and telling which process writes it."""
     return f".{name}.{os.getpid()}.{secrets.token_hex(4)}.tmp"
 

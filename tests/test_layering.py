@@ -21,7 +21,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("camfab.kinds",),
     ("camfab.pipeline", "camfab.report_text", "camfab.sizing_text"),
     ("camfab.inspect",),
-    ("camfab.batch", "camfab.cli", "camfab.__main__"),
+    ("camfab.batch", "camfab.sweep", "camfab.cli", "camfab.__main__"),
 )
 
 

@@ -74,12 +74,15 @@ def design_from_text(text: str, file: str = "<design>", folder: Path = Path(".")
 
 
 def design_from_mapping(data: dict[str, Any], file: str = "<design>",
-                        checks: Checks | None = None, sizer: Sizer | None = None) -> Design:
-    """A design from already-parsed data (no line numbers in messages)."""
+                        checks: Checks | None = None, sizer: Sizer | None = None,
+                        folder: Path = Path(".")) -> Design:
+    """A design from already-parsed data (no line numbers in messages), the files it names
+    (a table law's) found from *folder*."""
     if not isinstance(data, dict):
         raise DesignError("a design must be a mapping of keys", location=Location(file, None, ""),
                           got=data)
-    return _validate(SourceDocument(file=file, data=_text_keys(data)), checks, sizer)
+    return _validate(SourceDocument(file=file, data=_text_keys(data), folder=folder), checks,
+                     sizer)
 
 
 def unsized_design(path: str | Path, keys: frozenset[str]) -> tuple[Design, frozenset[str]]:
@@ -258,7 +261,9 @@ class _Shaper:
         return path
 
     def fail(self, path: Path_, problem: str, **kwargs: Any) -> NoReturn:
+        """Refuse the file's shape at *path*: a key, a type, a unit, a name (``kind`` shape)."""
         yaml_path = self.yaml_path(path)
+        kwargs.setdefault("kind", "shape")
         raise DesignError(problem, location=self.doc.locate(yaml_path, dotted(path)), **kwargs)
 
     def keys(self, mapping: Any, allowed: tuple[str, ...], path: Path_, what: str) -> None:
@@ -462,6 +467,8 @@ def _first_error(exc: ValidationError, doc: SourceDocument, shaped: _Shaper) -> 
             allowed=allowed,
             hint=hint,
             show_got=err["type"] != "missing" and got is not None,
+            kind=(err.get("ctx") or {}).get("kind", "") if err["type"] == "camfab"
+            else err["type"],
         )
         key = line if line is not None else 10**9
         if best is None or key < best[0]:

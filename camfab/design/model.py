@@ -76,15 +76,18 @@ def _lift(value: Any, info: ValidationInfo) -> Any:
 _lift.kind = "lift"  # type: ignore[attr-defined]  # a length or an angle, by the follower
 
 
-def _problem(problem: str, allowed: Any = None, hint: str | None = None) -> PydanticCustomError:
-    """Carry a camfab message through pydantic so the loader can rebuild it with a location."""
+def _problem(problem: str, allowed: Any = None, hint: str | None = None,
+             kind: str = "") -> PydanticCustomError:
+    """Carry a camfab message through pydantic so the loader can rebuild it with a location
+    (*kind* as :class:`~camfab.errors.DesignError` has it)."""
     return PydanticCustomError(
-        "camfab", "{problem}", {"problem": problem, "allowed": allowed, "hint": hint}
+        "camfab", "{problem}", {"problem": problem, "allowed": allowed, "hint": hint,
+                                "kind": kind}
     )
 
 
 def _custom(exc: DesignError) -> PydanticCustomError:
-    return _problem(exc.problem, exc.allowed, exc.hint)
+    return _problem(exc.problem, exc.allowed, exc.hint, exc.kind)
 
 
 Length = Annotated[float, _as(U.LENGTH)]
@@ -264,11 +267,11 @@ class Segment(Frozen):
         from camfab.motion.laws import ALIASES, LAW_NAMES, canonical_law_name
 
         if not isinstance(value, str):
-            raise _problem("must be a law name", LAW_NAMES)
+            raise _problem("must be a law name", LAW_NAMES, kind="shape")
         name = canonical_law_name(value)
         if name is None:
             raise _problem("unknown motion law", LAW_NAMES,
-                           did_you_mean(value, [*LAW_NAMES, *ALIASES]))
+                           did_you_mean(value, [*LAW_NAMES, *ALIASES]), kind="shape")
         return name
 
 

@@ -102,7 +102,8 @@ def convert(raw: object, kind: Kind, design_units: str = "mm") -> float:
         Not a number, an unknown unit, or a unit of the wrong kind.
     """
     if isinstance(raw, bool) or not isinstance(raw, (int, float, str)):
-        raise DesignError(f"must be {kind.name}", got=raw, allowed=_allowed(kind))
+        raise DesignError(f"must be {kind.name}", got=raw, allowed=_allowed(kind),
+                          kind="shape")
     if isinstance(raw, str):
         text = raw.strip()
         try:
@@ -126,7 +127,8 @@ def _in_range(value: float, raw: object, kind: Kind) -> float:
 
 def _convert_text(text: str, raw: str, kind: Kind, design_units: str) -> float:
     if not any(ch.isdigit() for ch in text):  # empty, or words: not a quantity
-        raise DesignError(f"must be {kind.name}", got=raw, allowed=_allowed(kind))
+        raise DesignError(f"must be {kind.name}", got=raw, allowed=_allowed(kind),
+                          kind="shape")
     if not _number_and_unit(text):
         raise DesignError(
             f"must be {kind.name} (a number, optionally with a unit)", got=raw,
@@ -153,7 +155,8 @@ def _convert_text(text: str, raw: str, kind: Kind, design_units: str) -> float:
     except OverflowError:  # an integer too large for a float
         magnitude = math.inf
     except (TypeError, ValueError):
-        raise DesignError(f"must be {kind.name}", got=raw, allowed=_allowed(kind)) from None
+        raise DesignError(f"must be {kind.name}", got=raw, allowed=_allowed(kind),
+                          kind="shape") from None
     _check_finite(magnitude, raw, kind)
     _check_unit_names(quantity, raw, kind)
     if not _has_kind(quantity, kind):
