@@ -1,7 +1,7 @@
 """How fast ``camfab sweep`` analyses variants, locally and on Dask, and whether its memory
 stays flat.
 
-    python benchmarks/sweep_speed.py [--variants N] [--jobs J]
+    python benchmarks/sweep_speed.py [--variants N] [--jobs J] [--rounds R]
 
 Sweeps of seed-10-4 (a disc cam) over its base radius, offset and rise law, analysis only:
 
@@ -9,7 +9,8 @@ Sweeps of seed-10-4 (a disc cam) over its base radius, offset and rise law, anal
   command's wall time end to end (start, imports, the table and page written) and the
   variants a second the sweep itself reports;
 - the same on a Dask cluster on this machine (a scheduler and J single-threaded worker
-  processes, ``LocalCluster(processes=True)``), through ``--scheduler``;
+  processes, ``LocalCluster(processes=True)``), through ``--scheduler``, alternated with the
+  local pool (``--rounds`` times each), medians compared;
 - memory: the peak resident size of the sweep's process and its workers, sampled every 0.1 s,
   for N/5 and N variants (flat: the same peak for five times the rows).
 
@@ -92,6 +93,8 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--variants", type=int, default=10_000)
     parser.add_argument("--jobs", type=int, default=len(os.sched_getaffinity(0)))
+    parser.add_argument("--rounds", type=int, default=3,
+                        help="local and Dask runs alternated (each)")
     options = parser.parse_args()
     compile_package()
     jobs = options.jobs
@@ -115,22 +118,23 @@ def main() -> int:
         except ImportError:
             print("  dask: not installed (pip install 'camfab[cluster]')")
             return 0
+        runs: dict[str, list[tuple[float, float, int, Path]]] = {"local": [], "dask": []}
         with LocalCluster(n_workers=jobs, threads_per_worker=1, processes=True,
                           host="127.0.0.1", dashboard_address=None) as cluster:
-            dask = sweep([*big, "--scheduler", cluster.scheduler_address], folder / "dask")
-            same = dask[3].read_bytes() == local[3].read_bytes()
-            print(f"  dask ({jobs} worker processes): {dask[0]:6.1f} s end to end, "
-                  f"{dask[1]:7.1f} variants/s; the same table as local: {same}")
-            half = vary_for(options.variants // 2)
-            rates: dict[str, list[float]] = {"local": [], "dask": []}
-            for _ in range(3):  # alternated: the machine's load drifts
-                rates["local"].append(sweep([*half, "-j", str(jobs)], folder / "l")[1])
-                rates["dask"].append(sweep([*half, "--scheduler", cluster.scheduler_address],
-                                           folder / "d")[1])
-        local_rate, dask_rate = (statistics.median(rates[k]) for k in ("local", "dask"))
-        print(f"  alternated 3 times at {options.variants // 2:,} variants: local "
-              f"{local_rate:.1f}/s, dask {dask_rate:.1f}/s (medians; "
-              f"{dask_rate / local_rate:.2f}× local)")
+            for k in range(options.rounds):  # alternated: the machine's load drifts
+                runs["dask"].append(sweep([*big, "--scheduler", cluster.scheduler_address],
+                                          folder / f"dask{k}"))
+                runs["local"].append(sweep([*big, "-j", str(jobs)], folder / f"local{k}"))
+        same = all(run[3].read_bytes() == local[3].read_bytes() for run in runs["dask"])
+        for engine in ("local", "dask"):
+            walls = ", ".join(f"{run[0]:.1f}" for run in runs[engine])
+            rates = ", ".join(f"{run[1]:.1f}" for run in runs[engine])
+            print(f"  {engine} alternated ({jobs} processes): {walls} s end to end, {rates} "
+                  f"variants/s")
+        local_rate, dask_rate = (statistics.median(run[1] for run in runs[engine])
+                                 for engine in ("local", "dask"))
+        print(f"  dask against local, medians: {dask_rate:.1f} / {local_rate:.1f} variants/s "
+              f"= {dask_rate / local_rate:.2f}×; the same table every run: {same}")
     return 0
 
 

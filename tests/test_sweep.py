@@ -9,6 +9,7 @@ import csv
 import io
 import json
 import math
+import re
 import signal
 import subprocess
 import sys
@@ -278,7 +279,6 @@ def test_variants_from_a_csv_file_and_the_best_built(tmp_path: Path) -> None:
 
 
 def test_the_page_counts_each_cell_of_the_region_from_the_table(tmp_path: Path) -> None:
-    import re
     import xml.etree.ElementTree as ET
 
     rows = swept(tmp_path, *VARY)
@@ -311,3 +311,27 @@ def test_size_gives_the_radius_at_which_the_pressure_angle_reaches_its_limit(
         pressure = next(f for f in analysis.findings if f.id == "pressure_angle")
         assert pressure.value == pytest.approx(30.0, abs=1e-3)  # the seed's limit, reached
     assert float(rows[1]["least_size_mm"]) == pytest.approx(90.0761, abs=1e-4)  # camfab size
+
+
+def test_a_drums_row_holds_its_worst_pressure_angle_and_its_groove(tmp_path: Path) -> None:
+    result = run_cli("sweep", str(DESIGNS / "demo-cylindrical.yaml"), "--vary",
+                     "cam.radius=20,60", "-o", "out", "-j", "1", "--format", "csv",
+                     cwd=tmp_path)
+    assert result.exit_code == 0, result.output
+    rows = table(tmp_path / "out" / "demo-cylindrical-sweep.csv")
+    text = (DESIGNS / "demo-cylindrical.yaml").read_text()
+    from camfab.export.report_json import render_report_json
+
+    for r in rows:
+        variant = re.sub(r"(?m)^(\s*radius:)\s*[^#\n]*", rf"\g<1> {r['cam.radius']} ", text,
+                         count=1)
+        analysis = analyse(design_from_text(variant, "variant.yaml"), advice=False)
+        geometry = json.loads(render_report_json(analysis))["geometry"]
+        assert math.isclose(float(r["pressure_angle_max_deg"]),
+                            geometry["root_pressure_angle_max_deg"], rel_tol=1e-10)
+        assert float(r["pressure_angle_max_at_deg"]) == geometry["root_pressure_angle_max_at_deg"]
+        assert math.isclose(float(r["profile_min_radius_of_curvature_mm"]),
+                            geometry["developed_min_radius_of_curvature_mm"], rel_tol=1e-10)
+        groove = next(f for f in analysis.findings if f.id == "groove")
+        assert (r["undercut"] == "true") == (not groove.ok)
+    assert rows[0]["status"] == "FAIL" and rows[1]["status"] == "OK"

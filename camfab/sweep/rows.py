@@ -17,7 +17,9 @@ if TYPE_CHECKING:
 
 #: The key numbers of a row, by column name, in order (units in the names; the motion's are SI:
 #: m/s, m/s², m/s³ for a translating follower, rad/s, rad/s², rad/s³ for an oscillating one,
-#: as ``motion_units`` says).
+#: as ``motion_units`` says). A drum's pressure angle is its worst (at the groove's root), its
+#: curvature the developed groove's, its undercut the groove check's (a wall that folds), as
+#: for a groove cam.
 NUMBERS = (
     "pressure_angle_max_deg",
     "pressure_angle_max_at_deg",
@@ -111,7 +113,14 @@ def key_numbers(analysis: Analysis) -> tuple[Any, ...]:
     pressure = next((f for f in analysis.findings if f.id == "pressure_angle"), None)
     angle = geometry.get("pressure_angle_max_deg",
                          None if pressure is None else pressure.value)
-    undercut = next((f for f in analysis.findings if f.id == "undercut"), None)
+    # where: beside the worst of the kind's pressure angles (a drum's is at its groove's root)
+    at = next((geometry.get(k.removesuffix("_deg") + "_at_deg") for k, v in geometry.items()
+               if k.endswith("pressure_angle_max_deg") and v is not None and v == angle), None)
+    curvature = geometry.get("profile_min_radius_of_curvature_mm",
+                             geometry.get("developed_min_radius_of_curvature_mm"))
+    # a drum's or a groove cam's walls fold under its groove check
+    undercut = next((f for f in analysis.findings if f.id == "undercut"),
+                    next((f for f in analysis.findings if f.id == "groove"), None))
     maxima: list[float | None] = []
     for order in range(3):  # None without a speed, or where a law's is unbounded (a step)
         found = [s.max_si[order] for s in analysis.segments if s.max_si is not None]
@@ -121,8 +130,8 @@ def key_numbers(analysis: Analysis) -> tuple[Any, ...]:
     dyn = analysis.dynamics
     return (
         _number(angle),
-        _number(geometry.get("pressure_angle_max_at_deg")),
-        _number(geometry.get("profile_min_radius_of_curvature_mm")),
+        _number(at),
+        _number(curvature),
         None if undercut is None else not undercut.ok,
         *(_number(m) for m in maxima),
         units,
