@@ -12,7 +12,8 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from camfab.geometry.globoid import Globoid, regularity, to_cam, undercut_radius
+from camfab.arrays import Array
+from camfab.geometry.globoid import Globoid, to_cam, undercut_radius
 from camfab.pipeline import design_from_text
 
 #: An oscillating follower's motion: 40° of swing out and back (cycloidal and 3-4-5).
@@ -37,6 +38,31 @@ IDS = ["concave-ccw", "concave-cw", "convex"]
 
 def motion(theta: Any) -> np.ndarray:
     return PROGRAM.evaluate(np.atleast_1d(np.asarray(theta, dtype=float)))
+
+
+def regularity(globoid: Globoid, theta: Array, ell: Array, motion_at: object, side: int,
+               radius: float, step: float = 1e-5) -> Array:
+    """J = (∂P/∂ℓ × ∂P/∂θ)·n on the cam (mm²/rad) for the flank on *side* of a roller of
+    *radius*: positive where the flank is a regular surface (as the axis surface is, r = 0),
+    zero or negative where it folds (an undercut). The derivatives are central differences of
+    the exact flank (*step* in mm and rad); *motion_at* gives the motion (4, N) at cam angles
+    (N,)."""
+    theta = np.asarray(theta, dtype=np.float64)
+    ell = np.asarray(ell, dtype=np.float64)
+
+    def evaluate(t: Array) -> Array:  # motion_at takes (N,) angles and gives (4, N)
+        flat = motion_at(np.ravel(t))  # type: ignore[operator]
+        return np.asarray(flat).reshape((4, *np.shape(t)))
+
+    def at(t: Array, e: Array) -> Array:
+        return globoid.flank(t, e, evaluate(t), side, radius)
+
+    d_ell = (at(theta, ell + step) - at(theta, ell - step)) / (2 * step)
+    d_theta = (at(theta + step, ell) - at(theta - step, ell)) / (2 * step)
+    m = evaluate(theta)
+    n = globoid.normal(ell, globoid.rest + m[0], m[1])
+    n_cam = to_cam(n, globoid.sigma * theta)
+    return np.einsum("...i,...i->...", np.cross(d_ell, d_theta), n_cam)
 
 
 def cam_axis(g: Globoid, theta: float, ell: float) -> tuple[np.ndarray, np.ndarray]:

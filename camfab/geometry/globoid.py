@@ -79,6 +79,12 @@ class Globoid:
         return np.stack((self.centre - ell * np.cos(psi), np.zeros_like(ell),
                          ell * np.sin(psi)), axis=-1)
 
+    @staticmethod
+    def axis_direction(psi: Array) -> Array:
+        """a (..., 3): the roller axis' unit direction, away from the pivot, arm at *psi*."""
+        psi = np.asarray(psi)
+        return np.stack((-np.cos(psi), np.zeros_like(psi), np.sin(psi)), axis=-1)
+
     def relative_velocity(self, ell: Array, psi: Array, dpsi: Array) -> Array:
         """v (..., 3): how Q moves against the cam per radian of cam angle (in the frame)."""
         ell, psi, dpsi = np.broadcast_arrays(ell, psi, dpsi)
@@ -106,9 +112,18 @@ class Globoid:
         """P (..., 3) on the cam: the flank on *side* (+1 along n, −1 against it) of a roller of
         *radius* (default the wall's) at cam angles *theta* (motion (4, ...): s, s′, s″, s‴ of
         the swing) and distances *ell* along the roller, broadcast together."""
+        return self.across(theta, ell, motion, side, radius)
+
+    def across(self, theta: Array, ell: Array, motion: Array, u: Array,
+               radius: float | None = None) -> Array:
+        """P (..., 3) on the cam: the point *u* times *radius* (default the wall's) along the
+        contact normal from the roller axis' point *ell*, at cam angles *theta* (motion as for
+        :meth:`flank`), all broadcast together: u = ±1 on the flanks, between them across the
+        groove (its floor, its top)."""
         r = self.radius if radius is None else radius
         psi, dpsi = self.rest + motion[0], motion[1]
-        p = self.axis_point(ell, psi) + side * r * self.normal(ell, psi, dpsi)
+        p = self.axis_point(ell, psi) + (r * np.asarray(u))[..., None] * self.normal(
+            ell, psi, dpsi)
         return to_cam(p, self.sigma * np.asarray(theta))
 
 
@@ -117,31 +132,6 @@ def to_cam(points: Array, turned: Array) -> Array:
     c, s = np.cos(turned), np.sin(turned)
     x, y, z = points[..., 0], points[..., 1], points[..., 2]
     return np.stack((c * x + s * y, -s * x + c * y, z), axis=-1)
-
-
-def regularity(globoid: Globoid, theta: Array, ell: Array, motion_at: object, side: int,
-               radius: float, step: float = 1e-5) -> Array:
-    """J = (∂P/∂ℓ × ∂P/∂θ)·n on the cam (mm²/rad) for the flank on *side* of a roller of
-    *radius*: positive where the flank is a regular surface (as the axis surface is, r = 0),
-    zero or negative where it folds (an undercut). The derivatives are central differences of
-    the exact flank (*step* in mm and rad); *motion_at* gives the motion (4, N) at cam angles
-    (N,)."""
-    theta = np.asarray(theta, dtype=np.float64)
-    ell = np.asarray(ell, dtype=np.float64)
-
-    def evaluate(t: Array) -> Array:  # motion_at takes (N,) angles and gives (4, N)
-        flat = motion_at(np.ravel(t))  # type: ignore[operator]
-        return np.asarray(flat).reshape((4, *np.shape(t)))
-
-    def at(t: Array, e: Array) -> Array:
-        return globoid.flank(t, e, evaluate(t), side, radius)
-
-    d_ell = (at(theta, ell + step) - at(theta, ell - step)) / (2 * step)
-    d_theta = (at(theta + step, ell) - at(theta - step, ell)) / (2 * step)
-    m = evaluate(theta)
-    n = globoid.normal(ell, globoid.rest + m[0], m[1])
-    n_cam = to_cam(n, globoid.sigma * theta)
-    return np.einsum("...i,...i->...", np.cross(d_ell, d_theta), n_cam)
 
 
 def undercut_radius(globoid: Globoid, theta: Array, ell: Array, motion: Array,
@@ -216,12 +206,8 @@ def groove_tube(globoid: Globoid, theta: Array, motion: Array, rows: Array,
     loop_ell = np.concatenate((ell, np.full(across - 1, floor), ell[::-1],
                                np.full(across - 1, top)))
     loop_u = np.concatenate((np.ones(ell.size), u[1:-1], -np.ones(ell.size), u[::-1][1:-1]))
-    psi = g.rest + motion[0][:, None]
-    dpsi = motion[1][:, None]
-    q = g.axis_point(loop_ell[None, :], psi)
-    n = g.normal(loop_ell[None, :], psi, dpsi)
-    frame = q + (g.radius * loop_u)[None, :, None] * n
-    points = to_cam(frame, g.sigma * np.asarray(theta)[:, None])
+    points = g.across(np.asarray(theta)[:, None], loop_ell[None, :], motion[:, :, None],
+                      loop_u[None, :])
     stations, size = points.shape[:2]
     index = np.arange(stations * size).reshape(stations, size)
     a = index

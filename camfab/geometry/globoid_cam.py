@@ -170,13 +170,13 @@ def groove_extent(blank: GloboidCam, program: MotionProgram) -> tuple[float, flo
     any point of its flanks between the blank's surface and its floor."""
     g = blank.follower
     _, _, m = program.segment_grid(ANALYSIS_STEP * 4)
-    psi, dpsi = g.rest + m[0], m[1]
+    psi = g.rest + m[0]
     ell = np.linspace(blank.surface, blank.floor, 5)[:, None]
     floor_r = blank.radius_at(np.asarray(blank.floor), psi)
     z = []
     corner = np.inf
-    for side in (1.0, -1.0):
-        p = g.axis_point(ell, psi) + side * g.radius * g.normal(ell, psi, dpsi)
+    for side in (1, -1):
+        p = g.flank(0.0, ell, m, side)  # (as at θ = 0: the distances do not turn with the cam)
         z.append(float(np.max(np.abs(p[..., 2]))))
         corner = min(corner, float(np.min(np.hypot(p[-1, :, 0], p[-1, :, 1]))))
     return float(np.min(floor_r)), corner, max(z)
@@ -195,7 +195,7 @@ def end_reach(g: Globoid, inner: float, program: MotionProgram) -> float:
     beta = np.linspace(0.0, 2 * math.pi, 25)[:-1]
     m = program.evaluate(theta)
     psi = g.rest + m[0]
-    a = np.stack((-np.cos(psi), np.zeros_like(psi), np.sin(psi)), axis=-1)
+    a = g.axis_direction(psi)
     n = g.normal(np.full(theta.size, inner), psi, m[1])
     b = np.cross(a, n)
     q = g.axis_point(np.full(theta.size, inner), psi)
@@ -212,7 +212,7 @@ def end_reach(g: Globoid, inner: float, program: MotionProgram) -> float:
             flat = program.evaluate(t.ravel()).reshape(4, *t.shape)
             p = to_cam(x, -g.sigma * t)  # the point in the frame at t
             ps = g.rest + flat[0]
-            axis = np.stack((-np.cos(ps), np.zeros_like(ps), np.sin(ps)), axis=-1)
+            axis = g.axis_direction(ps)
             rel = p - np.array([g.centre, 0.0, 0.0])
             along = np.einsum("...i,...i->...", rel, axis)
             normal = g.normal(along, ps, flat[1])
@@ -519,11 +519,7 @@ def tube_surfaces(blank: GloboidCam, program: MotionProgram, made: Tube) -> tupl
     m = program.evaluate(theta)
 
     def across(t: Array, mt: Array, ell: float, u: Array) -> Array:
-        psi = g.rest + mt[0][:, None]
-        frame = (g.axis_point(np.full((t.size, 1), ell), psi)
-                 + (g.radius * u)[None, :, None]
-                 * g.normal(np.full((t.size, 1), ell), psi, mt[1][:, None]))
-        return to_cam(frame, g.sigma * t[:, None])
+        return g.across(t[:, None], np.full((t.size, 1), ell), mt[:, :, None], u[None, :])
 
     u = np.linspace(1.0, -1.0, SURFACE_ACROSS)
     plus, minus = (g.flank(theta[:, None], rows[None, :], m[:, :, None], side)
