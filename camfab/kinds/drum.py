@@ -276,9 +276,9 @@ def drum_verify(analysis: Analysis, part: Part, files: PartFiles) -> Verificatio
     measured against the exact ones."""
     from camfab.curves.sampling import SAMPLING_SHARE
     from camfab.export.dxf import read_cut_outline
-    from camfab.export.stl import check_stl, read_stl
     from camfab.geometry.disc_geometry import LiftCheck
     from camfab.geometry.drum_mesh import development, groove_lift, row_points
+    from camfab.kinds.readback import groove_mesh
     from camfab.motion.program import cycle_angles
 
     design, dense = analysis.design, analysis.drum
@@ -286,18 +286,10 @@ def drum_verify(analysis: Analysis, part: Part, files: PartFiles) -> Verificatio
     d, program = dense.drum, analysis.program
     tolerance = SAMPLING_SHARE * design.manufacturing.tolerance
     folded = _folded(analysis)
-    if folded or files.stl is None:
-        vertices, faces = part.made.vertices, part.made.faces
-        stl_check = None
-        source = "the exact walls (the groove folds: no STL)"
-    else:
-        mesh = read_stl(files.stl.data)
-        stl_check = check_stl(files.stl.data, files.stl.volume_mm3,
-                              design.manufacturing.tolerance * files.stl.area_mm2, mesh)
-        vertices = np.asarray(mesh.vertices, dtype=np.float64)
-        faces = np.asarray(mesh.faces)
-        source = (f"the roller run through the groove of {design.name}.stl read back (between "
-                  f"its wall rows)")
+    vertices, faces, stl_check = groove_mesh(part, files, design.manufacturing.tolerance, folded)
+    source = ("the exact walls (the groove folds: no STL)" if stl_check is None else
+              f"the roller run through the groove of {design.name}.stl read back (between its "
+              "wall rows)")
     # the roller run between the wall vertices found, and points along the rows' edges between
     # them no further apart than a quarter of the roller's radius
     theta = cycle_angles(DRUM_VERIFY_STEP)

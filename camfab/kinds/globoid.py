@@ -23,6 +23,7 @@ if TYPE_CHECKING:
     from camfab.analysis.globoid_checks import GloboidDense, GloboidNumbers
     from camfab.analysis.kinematics import MotionUnits, SegmentStats
     from camfab.arrays import Array
+    from camfab.curves.profile import Profile
     from camfab.design import Design
     from camfab.export.part import Drawing, Part
     from camfab.export.serialise import PartFiles
@@ -321,15 +322,16 @@ def globoid_part(analysis: Analysis) -> Part:
         grids, probes = tube_surfaces(blank, program, groove)
         solid = Difference(body, Mesh(groove.vertices, groove.faces, grids, probes),
                            cut_first=True, tolerance=MERGE_SHARE * tolerance)
-    drawing = _section_drawing(analysis, blank, tolerance)
+    drawing = _section_drawing(analysis, blank, section, tolerance)
     return Part({design.name: drawing}, {design.name: (Contours((section,)), None)}, solid,
                 needs=("dxf", "stl"), withheld=withheld, made=groove)
 
 
-def _section_drawing(analysis: Analysis, blank: GloboidCam, tolerance: float) -> Drawing:
-    """The blank's half-section for the lathe on ``CUT`` (r across, the cam axis up, the axis
-    on ``MARK``), and below it the groove's centre path developed on the pitch globoid on
-    ``PITCH`` in its frame on ``MARK``, with notes."""
+def _section_drawing(analysis: Analysis, blank: GloboidCam, section: Profile,
+                     tolerance: float) -> Drawing:
+    """The blank's half-section (*section*) for the lathe on ``CUT`` (r across, the cam axis
+    up, the axis on ``MARK``), and below it the groove's centre path developed on the pitch
+    globoid on ``PITCH`` in its frame on ``MARK``, with notes."""
     from camfab.export.part import Drawing
     from camfab.geometry.arcfit import fit_arcs
     from camfab.geometry.globoid_cam import development
@@ -363,7 +365,7 @@ def _section_drawing(analysis: Analysis, blank: GloboidCam, tolerance: float) ->
     low = float(frame[:, 1].min())
     for row, line in enumerate(text, start=1):
         drawing.text(line, height, (0.0, (low - 1.6 * row * height / scale) * scale))
-    drawing.contour(blank.section(), scale, "CUT")
+    drawing.contour(section, scale, "CUT")
     return drawing
 
 
@@ -374,7 +376,6 @@ def globoid_verify(analysis: Analysis, part: Part, files: PartFiles) -> Verifica
     never inside it; the STL checked closed, outward and of the solid's volume; the DXF's
     half-section measured against the exact one."""
     from camfab.export.dxf import read_cut_outline
-    from camfab.export.stl import check_stl, read_stl
     from camfab.geometry.disc_geometry import LiftCheck
     from camfab.geometry.globoid_cam import (
         VERIFY_STEP,
@@ -382,6 +383,7 @@ def globoid_verify(analysis: Analysis, part: Part, files: PartFiles) -> Verifica
         near_roller,
         roller_run,
     )
+    from camfab.kinds.readback import groove_mesh
     from camfab.motion.program import cycle_angles
 
     design, dense = analysis.design, analysis.globoid
@@ -389,17 +391,9 @@ def globoid_verify(analysis: Analysis, part: Part, files: PartFiles) -> Verifica
     blank, program = dense.blank, analysis.program
     tolerance = design.manufacturing.tolerance
     folded = _undercut(analysis)
-    if folded or files.stl is None:
-        vertices, faces = part.made.vertices, part.made.faces
-        stl_check = None
-        source = "the groove's tube as computed (a flank folds: no STL)"
-    else:
-        mesh = read_stl(files.stl.data)
-        stl_check = check_stl(files.stl.data, files.stl.volume_mm3,
-                              tolerance * files.stl.area_mm2, mesh)
-        vertices = np.asarray(mesh.vertices, dtype=np.float64)
-        faces = np.asarray(mesh.faces)
-        source = f"the roller put in the groove of {design.name}.stl read back"
+    vertices, faces, stl_check = groove_mesh(part, files, tolerance, folded)
+    source = ("the groove's tube as computed (a flank folds: no STL)" if stl_check is None
+              else f"the roller put in the groove of {design.name}.stl read back")
     theta = cycle_angles(VERIFY_STEP * (4 if folded else 1))  # (a fold: what it would do)
     edges = mesh_edges(vertices, faces, near_roller(blank, vertices))
     run = roller_run(blank, edges, theta, program.evaluate(theta))

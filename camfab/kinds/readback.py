@@ -22,8 +22,11 @@ from camfab.geometry.disc_geometry import LiftCheck
 
 if TYPE_CHECKING:
     from camfab.analysis.record import Analysis
+    from camfab.analysis.verification import StlCheck
+    from camfab.arrays import Array
     from camfab.curves.profile import Profile
     from camfab.design import Design
+    from camfab.export.part import Part
     from camfab.export.serialise import PartFiles
     from camfab.geometry.disc_geometry import DiscGeometry
     from camfab.geometry.plate import Plate
@@ -64,6 +67,22 @@ def verify_plate(analysis: Analysis, contours: Plate,
                                               design.manufacturing.tolerance)
                         if geom.undercut else None
                         ), back
+
+
+def groove_mesh(part: Part, files: PartFiles, tolerance: float,
+                folded: bool) -> tuple[Array, Array, StlCheck | None]:
+    """The mesh a drum's or a globoid's roller is run through (mm): the STL read back,
+    checked closed, outward and of the solid's volume (within *tolerance*, mm, over its
+    surface), or, when the groove folds (or no STL was made), the tube as computed, unchecked:
+    (V, 3) vertices, (F, 3) faces and the STL's check."""
+    if folded or files.stl is None:
+        return part.made.vertices, part.made.faces, None
+    from camfab.export.stl import check_stl, read_stl
+
+    mesh = read_stl(files.stl.data)
+    check = check_stl(files.stl.data, files.stl.volume_mm3, tolerance * files.stl.area_mm2,
+                      mesh)
+    return np.asarray(mesh.vertices, dtype=np.float64), np.asarray(mesh.faces), check
 
 
 def expected_volume(analysis: Analysis, plate: Plate) -> tuple[float, float]:
