@@ -208,6 +208,16 @@ class Union:
 Solid = Extrusion | Cylinder | Revolution | Mesh | Difference | Union
 
 
+def pieces(solid: Solid) -> list[Extrusion | Cylinder | Revolution | Mesh]:
+    """The pieces of *solid*'s tree (its extrusions, cylinders, revolutions and meshes), in
+    order: each difference's body then its cut, each union's parts."""
+    if isinstance(solid, Difference):
+        return [*pieces(solid.body), *pieces(solid.cut)]
+    if isinstance(solid, Union):
+        return [piece for part in solid.parts for piece in pieces(part)]
+    return [solid]
+
+
 @dataclass(frozen=True)
 class Part:
     """What a kind makes of one design: its drawings by file stem (``NAME``, or ``NAME-a`` and

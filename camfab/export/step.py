@@ -26,7 +26,16 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from camfab.analysis.verification import StepCheck
-from camfab.export.part import Cylinder, Difference, Extrusion, Mesh, Revolution, Solid, Union
+from camfab.export.part import (
+    Cylinder,
+    Difference,
+    Extrusion,
+    Mesh,
+    Revolution,
+    Solid,
+    Union,
+    pieces,
+)
 
 if TYPE_CHECKING:
     from camfab.arrays import Array
@@ -81,29 +90,18 @@ def render_step(solid: Solid, name: str) -> StepFile:
 
 def _curved(solid: Solid) -> bool:
     """Whether the tree holds surfaces fitted through points (a mesh's)."""
-    if isinstance(solid, Mesh):
-        return bool(solid.surfaces)
-    if isinstance(solid, Difference):
-        return _curved(solid.body) or _curved(solid.cut)
-    if isinstance(solid, Union):
-        return any(_curved(part) for part in solid.parts)
-    return False
+    return any(isinstance(piece, Mesh) and bool(piece.surfaces) for piece in pieces(solid))
 
 
 def _exact(solid: Solid) -> None:
     """Raise :class:`NotExact` for a tree holding a piece with no exact form."""
-    if isinstance(solid, Extrusion) and solid.exact is None:
-        raise NotExact("an extrusion of sampled points only")
-    if isinstance(solid, Mesh) and not solid.surfaces:
-        raise NotExact("a mesh")
-    if isinstance(solid, Revolution) and solid.exact is None:
-        raise NotExact("a revolved section of sampled points")
-    if isinstance(solid, Difference):
-        _exact(solid.body)
-        _exact(solid.cut)
-    if isinstance(solid, Union):
-        for part in solid.parts:
-            _exact(part)
+    for piece in pieces(solid):
+        if isinstance(piece, Extrusion) and piece.exact is None:
+            raise NotExact("an extrusion of sampled points only")
+        if isinstance(piece, Mesh) and not piece.surfaces:
+            raise NotExact("a mesh")
+        if isinstance(piece, Revolution) and piece.exact is None:
+            raise NotExact("a revolved section of sampled points")
 
 
 def _parts(solid: Solid) -> list[Solid]:
@@ -484,13 +482,9 @@ def _deviation(shape: Any, solid: Solid) -> float:
 
 def _probes(solid: Solid) -> Array:
     """The exact surface's probes of the tree's meshes (mm)."""
-    if isinstance(solid, Mesh) and solid.probes is not None:
-        return solid.probes
-    if isinstance(solid, Difference):
-        return np.concatenate((_probes(solid.body), _probes(solid.cut)))
-    if isinstance(solid, Union):
-        return np.concatenate([_probes(part) for part in solid.parts])
-    return np.zeros((0, 3))
+    found = [piece.probes for piece in pieces(solid)
+             if isinstance(piece, Mesh) and piece.probes is not None]
+    return np.concatenate(found) if found else np.zeros((0, 3))
 
 
 def _probe_distance(faces: list[Any], probes: Array) -> float:
@@ -529,18 +523,16 @@ def _probe_distance(faces: list[Any], probes: Array) -> float:
 
 def _planes(solid: Solid) -> set[float]:
     """The heights (mm) of the part's flat faces."""
-    if isinstance(solid, (Extrusion, Cylinder)):
-        z = solid.z or 0.0
-        return {z, z + solid.height}
-    if isinstance(solid, Revolution) and solid.exact is not None:
-        v = solid.exact.vertices  # its lines across, square to Z
-        edges = np.roll(v, -1, axis=0) - v
-        return {float(v[i, 1]) for i in np.flatnonzero(np.abs(edges[:, 1]) < 1e-12)}
-    if isinstance(solid, Difference):
-        return _planes(solid.body) | _planes(solid.cut)
-    if isinstance(solid, Union):
-        return set().union(*(_planes(part) for part in solid.parts))
-    return set()
+    heights: set[float] = set()
+    for piece in pieces(solid):
+        if isinstance(piece, (Extrusion, Cylinder)):
+            z = piece.z or 0.0
+            heights |= {z, z + piece.height}
+        elif isinstance(piece, Revolution) and piece.exact is not None:
+            v = piece.exact.vertices  # its lines across, square to Z
+            edges = np.roll(v, -1, axis=0) - v
+            heights |= {float(v[i, 1]) for i in np.flatnonzero(np.abs(edges[:, 1]) < 1e-12)}
+    return heights
 
 
 def _contour_distance(solid: Solid, xyz: Array) -> Array:
@@ -548,26 +540,13 @@ def _contour_distance(solid: Solid, xyz: Array) -> Array:
     extrusion's or a cylinder's, in the point's plane through Z for a revolved section's."""
     best = np.full(len(xyz), np.inf)
     meridian = np.column_stack((np.hypot(xyz[:, 0], xyz[:, 1]), xyz[:, 2]))
-    for contour in _contours(solid):
-        if isinstance(contour, float):
-            distance = np.abs(meridian[:, 0] - contour)
-        elif isinstance(contour, tuple):  # a revolved section
-            distance = contour[0].distance(meridian)
-        else:
-            distance = contour.distance(xyz[:, :2])
-        best = np.minimum(best, distance)
+    for piece in pieces(solid):
+        if isinstance(piece, Extrusion):
+            for contour in piece.exact or ():
+                best = np.minimum(best, np.abs(meridian[:, 0] - contour)
+                                  if isinstance(contour, float) else contour.distance(xyz[:, :2]))
+        elif isinstance(piece, Cylinder):
+            best = np.minimum(best, np.abs(meridian[:, 0] - float(piece.radius)))
+        elif isinstance(piece, Revolution) and piece.exact is not None:
+            best = np.minimum(best, piece.exact.distance(meridian))
     return best
-
-
-def _contours(solid: Solid) -> list[Profile | float | tuple[Profile]]:
-    if isinstance(solid, Extrusion):
-        return list(solid.exact or ())
-    if isinstance(solid, Revolution) and solid.exact is not None:
-        return [(solid.exact,)]
-    if isinstance(solid, Cylinder):
-        return [float(solid.radius)]
-    if isinstance(solid, Difference):
-        return _contours(solid.body) + _contours(solid.cut)
-    if isinstance(solid, Union):
-        return [c for part in solid.parts for c in _contours(part)]
-    return []
