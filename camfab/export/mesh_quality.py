@@ -49,10 +49,7 @@ def min_altitude(vertices: Array) -> float:
     or, on a part so large that an STL's float32 rounds its coordinates by more (from 512 mm
     from the origin on), twice that rounding at its farthest coordinate: a facet thinner
     than the file can place its corners is not a facet the file holds."""
-    if vertices.size == 0:
-        return MIN_ALTITUDE_MM
-    farthest = np.float32(np.max(np.abs(vertices)))
-    return max(MIN_ALTITUDE_MM, 2.0 * float(np.spacing(farthest)))
+    return max(MIN_ALTITUDE_MM, 2.0 * _float32_spacing(vertices))
 
 
 def _rounding(vertices: Array) -> float:
@@ -60,10 +57,14 @@ def _rounding(vertices: Array) -> float:
     *vertices*: both ends rounded by half the float32 spacing at its farthest coordinate, in
     each of three coordinates (an edge just longer than :data:`MIN_EDGE_MM` the repair keeps
     must not come back shorter)."""
+    return 2.0 * math.sqrt(3.0) * 0.5 * _float32_spacing(vertices)
+
+
+def _float32_spacing(vertices: Array) -> float:
+    """The float32 spacing (mm) at the farthest coordinate of *vertices* (0 for none)."""
     if vertices.size == 0:
         return 0.0
-    farthest = np.float32(np.max(np.abs(vertices)))
-    return 2.0 * math.sqrt(3.0) * 0.5 * float(np.spacing(farthest))
+    return float(np.spacing(np.float32(np.max(np.abs(vertices)))))
 
 
 def edge_lengths(vertices: Array, faces: Index) -> Array:
