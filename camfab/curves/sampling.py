@@ -207,3 +207,26 @@ def spread(segment: Index, theta: Array, density: Array, count: int) -> Array:
         out.append(np.interp(np.linspace(0.0, cumulative[-1], samples + 1), cumulative,
                              t)[:-1])
     return np.concatenate(out)
+
+
+#: Points across the floor and across the top of a groove in the grids of its exact surfaces,
+#: through which a STEP's surfaces are fitted (count).
+SURFACE_ACROSS = 5
+#: The most cam angles (spread over the turn) at which the probes of a groove's exact surfaces
+#: measure the fitted ones (count).
+PROBE_STATIONS = 60
+
+
+def ahead_and_middle(stations: Array) -> tuple[Array, Array]:
+    """For each of *stations* (cam angles, rad, one turn, ascending), the next one (after the
+    last, the first a turn on) and the angle halfway to it."""
+    ahead = np.append(stations[1:], stations[0] + 2 * math.pi)
+    return ahead, 0.5 * (stations + ahead)
+
+
+def probe_angles(stations: Array) -> Array:
+    """Cam angles (rad) halfway between consecutive *stations*, at most about
+    :data:`PROBE_STATIONS` of them spread over the turn: where a surface fitted through the
+    stations strays furthest, to measure it by."""
+    return ahead_and_middle(stations)[1][::max(1, math.ceil(stations.size / PROBE_STATIONS))]
+

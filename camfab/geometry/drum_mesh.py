@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from camfab.arrays import Array, Mask, signed_volume
-from camfab.curves.sampling import spread
+from camfab.curves.sampling import SURFACE_ACROSS, probe_angles, spread
 from camfab.geometry.drum import ANALYSIS_STEP, Drum, polar_to_xy
 from camfab.motion.program import MotionProgram
 
@@ -251,11 +251,6 @@ def groove_lift(d: Drum, vertices: Array, theta: Array, centre: Array) -> tuple[
     return low, high
 
 
-#: Points across the floor and across the top in the grids of the exact surfaces.
-SURFACE_ACROSS = 5
-#: The most cam angles (spread over the turn) at which the probes measure the fitted walls.
-PROBE_STATIONS = 60
-
 
 def tube_surfaces(d: Drum, program: MotionProgram, tube: Tube) -> tuple[tuple[Array, ...],
                                                                         Array]:
@@ -281,8 +276,7 @@ def tube_surfaces(d: Drum, program: MotionProgram, tube: Tube) -> tuple[tuple[Ar
 
     grids = (wall(-1, theta, m, radii), wall(1, theta, m, radii), across(d.root),
              across(float(radii[-1])))
-    ahead = np.append(theta[1:], theta[0] + 2 * math.pi)
-    middle = (0.5 * (theta + ahead))[::max(1, math.ceil(theta.size / PROBE_STATIONS))]
+    middle = probe_angles(theta)
     mid_m = program.evaluate(middle)
     mid_r = 0.5 * (radii[1:] + radii[:-1])
     inside = mid_r <= d.radius  # the walls the drum keeps

@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from camfab.arrays import Array
-from camfab.curves.sampling import spread
+from camfab.curves.sampling import SURFACE_ACROSS, ahead_and_middle, probe_angles, spread
 from camfab.geometry.globoid import Globoid, groove_tube, to_cam
 from camfab.motion.program import cycle_angles
 
@@ -261,8 +261,7 @@ def stations(blank: GloboidCam, program: MotionProgram, rows: Array, tolerance: 
     density = np.maximum(density, 1.0 / MAX_STATION_STEP)
     placed = spread(segment, theta, density, len(program.segments))
     for _ in range(8):  # halve the chords that stray
-        ahead = np.append(placed[1:], placed[0] + 2 * math.pi)
-        middle = 0.5 * (placed + ahead)
+        ahead, middle = ahead_and_middle(placed)
         motion = [program.evaluate(t)[:, None, :] for t in (placed, ahead, middle)]
         worst = np.zeros(placed.size)
         for side in (1, -1):
@@ -332,8 +331,7 @@ def tube(blank: GloboidCam, program: MotionProgram, tolerance: float,
     rows = tube_rows(blank, program, tolerance)
     theta = stations(blank, program, rows, tolerance)
     m = program.evaluate(theta)
-    ahead = np.append(theta[1:], theta[0] + 2 * math.pi)
-    middle = 0.5 * (theta + ahead)
+    ahead, middle = ahead_and_middle(theta)
     m_ahead, m_mid = program.evaluate(ahead), program.evaluate(middle)
     while twist and rows.size < MAX_ROWS:
         mid_rows = 0.5 * (rows[1:] + rows[:-1])[:, None]
@@ -500,11 +498,6 @@ def mesh_edges(vertices: Array, faces: Array, keep: Array | None = None) -> Arra
     return vertices[edges]
 
 
-#: Points across the floor and the top in the grids of the exact surfaces.
-SURFACE_ACROSS = 5
-#: The most cam angles (spread over the turn) at which the probes measure the fitted flanks.
-PROBE_STATIONS = 60
-
 
 def tube_surfaces(blank: GloboidCam, program: MotionProgram, made: Tube) -> tuple[
         tuple[Array, ...], Array]:
@@ -526,8 +519,7 @@ def tube_surfaces(blank: GloboidCam, program: MotionProgram, made: Tube) -> tupl
                    for side in (1, -1))
     grids = (plus, minus, across(theta, m, float(rows[-1]), u),
              across(theta, m, float(rows[0]), u))
-    ahead = np.append(theta[1:], theta[0] + 2 * math.pi)
-    middle = (0.5 * (theta + ahead))[::max(1, math.ceil(theta.size / PROBE_STATIONS))]
+    middle = probe_angles(theta)
     mid_rows = 0.5 * (rows[1:] + rows[:-1])
     low, high = sorted((blank.surface, blank.floor))
     mid_rows = mid_rows[(mid_rows >= low) & (mid_rows <= high)]
