@@ -14,7 +14,7 @@ import secrets
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, BinaryIO
 
 from camfab import __version__
 from camfab.analysis.kinematics import MotionUnits, continuity_findings, segment_stats
@@ -291,10 +291,9 @@ def write_files(folder: Path, files: Mapping[str, bytes]) -> list[Path]:
     temps: list[tuple[Path, Path]] = []
     try:
         for name, data in files.items():
-            temp = folder / temp_name(name)
-            handle = os.open(temp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | _O_BINARY, 0o666)
+            temp, stream = open_temp(folder, name)
             temps.append((temp, folder / name))
-            with os.fdopen(handle, "wb") as stream:
+            with stream:
                 stream.write(data)
         for temp, final in temps:
             os.replace(temp, final)
@@ -314,9 +313,13 @@ _O_BINARY = getattr(os, "O_BINARY", 0)
 STALE_TEMP_SECONDS = 24 * 3600
 
 
-def temp_name(name: str) -> str:
-    """``.NAME.PID.RANDOM.tmp``: hidden, and telling which process writes it."""
-    return f".{name}.{os.getpid()}.{secrets.token_hex(4)}.tmp"
+def open_temp(folder: Path, name: str) -> tuple[Path, BinaryIO]:
+    """A new temporary file for the file *name* in *folder*, ``.NAME.PID.RANDOM.tmp`` (hidden,
+    and telling which process writes it), open for writing, with the permissions the umask
+    allows (not a temporary file's private 0600): its path and its stream."""
+    temp = folder / f".{name}.{os.getpid()}.{secrets.token_hex(4)}.tmp"
+    handle = os.open(temp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | _O_BINARY, 0o666)
+    return temp, os.fdopen(handle, "wb")
 
 
 def remove_stale_temps(folder: Path, names: Iterable[str]) -> None:

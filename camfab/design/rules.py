@@ -22,6 +22,7 @@ if TYPE_CHECKING:
 #: thinner walls do not survive printing or machining.
 MIN_WALL_MM = 1.0
 
+
 def wall_need(bore: float = 0.0, depth: float = 0.0) -> float:
     """The least radius (mm) that leaves :data:`MIN_WALL_MM` of material beyond what reaches
     out from the axis: a bore of diameter *bore*, and *depth* further (a keyway's depth, or a

@@ -33,16 +33,14 @@ class TableWriter:
 
     def __init__(self, folder: Path, stem: str, columns: Sequence[str],
                  kinds: dict[str, str], parquet: bool) -> None:
-        from camfab.pipeline import remove_stale_temps, temp_name
+        from camfab.pipeline import open_temp, remove_stale_temps
 
         self.columns = tuple(columns)
         self.kinds = kinds
         self.parquet = parquet
         self.path = folder / f"{stem}.{'parquet' if parquet else 'csv'}"
         remove_stale_temps(folder, [self.path.name])
-        self.temp = folder / temp_name(self.path.name)
-        handle = os.open(self.temp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | _O_BINARY, 0o666)
-        self._stream = os.fdopen(handle, "wb")
+        self.temp, self._stream = open_temp(folder, self.path.name)
         self._buffer: list[Row] = []
         self._writer: Any = None
         self.rows = 0
@@ -100,8 +98,6 @@ class TableWriter:
         self._stream.close()
         self.temp.unlink(missing_ok=True)
 
-
-_O_BINARY = getattr(os, "O_BINARY", 0)
 
 
 def _arrow(kind: str) -> Any:
