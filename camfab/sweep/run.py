@@ -15,10 +15,13 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from functools import partial
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from camfab.sweep.rows import Row, columns, evaluate
 from camfab.sweep.vary import SweepError, Variants, from_file, from_varies, parse_vary
+
+if TYPE_CHECKING:
+    from camfab.sweep.page import Region
 
 #: The design-file errors that say a ``--vary`` gives a value of the wrong kind or names no key
 #: (the file's shape, pydantic's type errors), rather than a design a value makes invalid.
@@ -50,14 +53,13 @@ class SweepOptions:
 @dataclass
 class Sweep:
     """A sweep's outcome: the table's and the page's paths, the counts by status, the rows
-    written, its wall seconds, whether it was stopped, and the designs built."""
+    written, its wall seconds, and the designs built."""
 
     table: Path
     page: Path
     counts: dict[str, int]
     rows: int
     seconds: float
-    stopped: bool = False
     built: list[tuple[Path, int]] = field(default_factory=list)
 
 
@@ -163,7 +165,7 @@ def run(sweep: Plan, echo: Callable[[str], None] = print) -> Sweep:
     """Run *sweep*: the table, the page and the best builds (see the module)."""
     from camfab.batch import progress_bar
     from camfab.sweep.engines import BATCH, DASK_BATCH, dask_rows, local_rows
-    from camfab.sweep.page import Region, axis_of, render_page
+    from camfab.sweep.page import Region, axis_of
     from camfab.sweep.table import TableWriter, cell, parquet_available, typed
 
     options, variants = sweep.options, sweep.variants
@@ -213,8 +215,7 @@ def run(sweep: Plan, echo: Callable[[str], None] = print) -> Sweep:
         seconds = time.perf_counter() - start
         table = writer.close()
         ranked = [r for _, _, r in sorted(best, key=lambda item: (-item[0], -item[1]))]
-        page = _write_page(sweep, counts, seconds, region, ranked or shown, table, stopped,
-                           render_page)
+        page = _write_page(sweep, counts, seconds, region, ranked or shown, table, stopped)
         if stopped:
             echo(f"{sweep.name}: stopped after {writer.rows:,} of {variants.count:,} variants; "
                  f"wrote {table} and {page} with them")
@@ -244,9 +245,11 @@ def _keep_best(rows: Sequence[Row], sweep: Plan, status_at: int,
             heapq.heapreplace(best, item)
 
 
-def _write_page(sweep: Plan, counts: dict[str, int], seconds: float, region: Any,
-                rows: Sequence[Row], table: Path, stopped: bool, render: Any) -> Path:
+def _write_page(sweep: Plan, counts: dict[str, int], seconds: float, region: Region,
+                rows: Sequence[Row], table: Path, stopped: bool) -> Path:
+    """The summary page written into the sweep's folder (see :mod:`camfab.sweep.page`)."""
     from camfab.pipeline import write_files
+    from camfab.sweep.page import render_page
 
     variants = sweep.variants
     if variants.varies:
@@ -259,9 +262,9 @@ def _write_page(sweep: Plan, counts: dict[str, int], seconds: float, region: Any
     objective = None
     if sweep.objective is not None:
         objective = f"{'least' if sweep.objective[1] < 0 else 'greatest'} {sweep.objective[0]}"
-    data = render(f"{sweep.name}-sweep", str(sweep.options.design), varied, counts, seconds,
-                  region, shown, [tuple(r[i] for i in at) for r in rows], objective,
-                  table.name, stopped)
+    data = render_page(f"{sweep.name}-sweep", str(sweep.options.design), varied, counts,
+                       seconds, region, shown, [tuple(r[i] for i in at) for r in rows],
+                       objective, table.name, stopped)
     name = f"{sweep.name}-sweep.html"
     write_files(sweep.out_dir, {name: data})
     return sweep.out_dir / name
