@@ -36,6 +36,12 @@ class Contours:
     def __len__(self) -> int:
         return len(self.profiles) + len(self.circles)
 
+    @property
+    def exact(self) -> tuple[Profile | float, ...]:
+        """Every contour exactly: the profiles, then the circles' radii (an
+        :attr:`~camfab.export.part.Extrusion.exact`'s holes)."""
+        return (*self.profiles, *self.circles)
+
 
 @dataclass(frozen=True)
 class Plate:

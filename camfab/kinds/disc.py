@@ -158,7 +158,7 @@ def plate_stack(outlines: list[Array], holes: Contours, tolerance: float,
 
     bores = hole_points(holes, tolerance)
     return Union(tuple(Extrusion((outline, *bores), thickness, i * thickness,
-                                 (contour, *holes.profiles, *holes.circles))
+                                 (contour, *holes.exact))
                        for i, (outline, contour) in enumerate(zip(outlines, exact,
                                                                     strict=True))))
 

@@ -164,7 +164,7 @@ def _solid(analysis: Analysis, holes: Contours) -> Solid:
     tol = geom.tolerance
     rim = arc_points(np.zeros(2), np.array([walls.outer_radius, 0.0]), 2 * math.pi, tol)[:-1]
     plate = Extrusion((rim, *hole_points(holes, tol)), walls.thickness, None,
-                      (walls.outer_radius, *holes.profiles, *holes.circles))
+                      (walls.outer_radius, *holes.exact))
     pocket = Extrusion((walls.outer_points, walls.inner_points), walls.depth + OVERSHOOT_MM,
                        walls.thickness - walls.depth, (walls.outer, walls.inner))
     return Difference(plate, pocket)
