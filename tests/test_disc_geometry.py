@@ -102,6 +102,17 @@ def test_pitch_curve_tangent_and_curvature(contact: str, oscillating: bool, sigm
 
 
 @pytest.mark.parametrize(("contact", "oscillating", "sigma", "sign"), CASES, ids=IDS)
+def test_pitch_radius_is_the_pitch_curves_to_the_bit(contact: str, oscillating: bool,
+                                                      sigma: int, sign: int) -> None:
+    """The radius the sizing measures without the curve's points is the pitch curve's, bit for
+    bit (signed zeros and infinities too), joints and all."""
+    _, cam, program, _ = setup(contact, oscillating, sigma, sign)
+    _, theta, m = program.segment_grid(math.radians(0.5))
+    assert np.array_equal(cam.pitch_radius(m).view(np.int64),
+                          cam.pitch(theta, m).radius.view(np.int64))
+
+
+@pytest.mark.parametrize(("contact", "oscillating", "sigma", "sign"), CASES, ids=IDS)
 def test_pressure_angle_is_the_angle_between_normal_and_motion(
         contact: str, oscillating: bool, sigma: int, sign: int) -> None:
     fol, cam, program, theta = setup(contact, oscillating, sigma, sign)

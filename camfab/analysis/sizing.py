@@ -17,6 +17,7 @@ Lengths are millimetres and angles degrees.
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
@@ -67,13 +68,18 @@ class Grid:
     motion: Array
 
 
+@functools.lru_cache(maxsize=4)
 def grids(program: MotionProgram, step: float = ANALYSIS_STEP) -> tuple[Grid, Grid]:
     """The build's grid of *program* (segment by segment, joints twice, *step* apart), and that
-    grid with one four times finer besides."""
+    grid with one four times finer besides. Their arrays are read-only: the last few pairs are
+    kept, for a sizing asks for the same program's several times (a program is its object)."""
     _, theta, motion = program.segment_grid(step)
     _, fine_theta, fine_motion = program.segment_grid(step / 4.0)
-    return (Grid(theta, motion), Grid(np.concatenate((theta, fine_theta)),
+    pair = (Grid(theta, motion), Grid(np.concatenate((theta, fine_theta)),
                                       np.concatenate((motion, fine_motion), axis=1)))
+    for grid in pair:
+        grid.theta.flags.writeable = grid.motion.flags.writeable = False
+    return pair
 
 
 @dataclass(frozen=True)

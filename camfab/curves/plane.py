@@ -90,22 +90,25 @@ def curve_from_frame(theta: Array, sigma: int, f: Array, df: Array, ddf: Array) 
     return CurvePoints(xy, tangent, speed, radius)
 
 
-def frame_radius(sigma: int, f: Array, df: Array, ddf: Array) -> Array:
-    """The signed radius of curvature (mm) of the cam-frame curve of a frame point F(θ), as
-    :func:`curve_from_frame` gives it, without the curve's points."""
-    return _frame_radius(sigma, f, df, ddf)[2]
-
-
 def _frame_radius(sigma: int, f: Array, df: Array, ddf: Array) -> tuple[Array, Array, Array]:
     """C′ (in the frame), |C′| and the signed radius of curvature (see :func:`curve_from_frame`)."""
     d1 = df - sigma * perp(f)
     d2 = ddf - 2 * sigma * perp(df) - f
-    speed = np.hypot(d1[:, 0], d1[:, 1])
-    bend = cross(d1, d2)
-    straight = np.abs(bend) <= STRAIGHT_SINE * speed * np.hypot(d2[:, 0], d2[:, 1])
+    speed, radius = radius_from(sigma, d1[:, 0], d1[:, 1], d2[:, 0], d2[:, 1])
+    return d1, speed, radius
+
+
+def radius_from(sigma: int, d1x: Array, d1y: Array, d2x: Array, d2y: Array
+                ) -> tuple[Array, Array]:
+    """|C′| (mm/rad) and the signed radius of curvature (mm) of the cam-frame curve whose C′ and
+    C″, in the frame, have the components *d1x*, *d1y* and *d2x*, *d2y* (mm/rad, mm/rad²; see
+    :func:`curve_from_frame`)."""
+    speed = np.hypot(d1x, d1y)
+    bend = d1x * d2y - d1y * d2x  # cross(C′, C″)
+    straight = np.abs(bend) <= STRAIGHT_SINE * speed * np.hypot(d2x, d2y)
     with np.errstate(divide="ignore", invalid="ignore"):
         radius = np.where(straight, np.inf, -sigma * speed**3 / bend)
-    return d1, speed, radius
+    return speed, radius
 
 
 def offset_inward(curve: CurvePoints, sigma: int, distance: float) -> CurvePoints:

@@ -21,9 +21,9 @@ from camfab.curves.plane import (
     CurvePoints,
     curve_from_frame,
     dot,
-    frame_radius,
     offset_inward,
     perp,
+    radius_from,
     rotate,
     signed_angle,
     unit,
@@ -103,6 +103,38 @@ class DiscCam:
         ddf = arm * (a[:, None] * direction + (v * v)[:, None] * turn)
         return f, df, ddf, direction
 
+    def _parts(self, m: Array, second: bool = False) -> tuple[Array | float, ...]:
+        """The trace point's direction of motion on a rise and the pitch curve's C′ in the
+        frame, by component: (mx, my, x′, y′), and with *second* C″ too (x″, y″); mm/rad and
+        mm/rad². The arithmetic of :meth:`trace` and
+        :func:`~camfab.curves.plane.curve_from_frame`, operation for operation (the same values
+        to the bit, signed zeros too), on the components instead of stacked points: the sizing
+        measures these some hundreds of times a design."""
+        fol, sigma = self.follower, self.sigma
+        s, v = m[0], m[1]
+        if not fol.oscillating:  # F = (e, y₀ + s), F′ = (0, s′), F″ = (0, s″), along +Y
+            fx, fy = fol.offset, self.rest + s
+            mx, my, dfx, dfy = 0.0, 1.0, 0.0, v
+        else:
+            p, arm = fol.pivot_sign, fol.arm_length
+            psi = self.rest + s
+            c, sn = np.cos(psi), np.sin(psi)
+            fx, fy = p * (fol.pivot_distance - arm * c), arm * sn
+            mx, my = p * sn, c
+            rate = arm * v
+            dfx, dfy = rate * mx, rate * my
+        d1x, d1y = dfx - sigma * -fy, dfy - sigma * fx
+        if not second:
+            return mx, my, d1x, d1y
+        a = m[2]
+        if not fol.oscillating:
+            ddfx, ddfy = 0.0, a
+        else:
+            square = v * v
+            ddfx, ddfy = arm * (a * mx + square * (p * c)), arm * (a * my + square * -sn)
+        twice = 2 * sigma
+        return mx, my, d1x, d1y, (ddfx - twice * -dfy) - fx, (ddfy - twice * dfx) - fy
+
     def face_lines(self, theta: Array, m: Array) -> FaceLines:
         """The flat face's line family in the cam frame (THEORY §B, flat faces)."""
         fol, sigma = self.follower, self.sigma
@@ -138,8 +170,7 @@ class DiscCam:
     def pitch_radius(self, m: Array) -> Array:
         """The pitch curve's signed radius of curvature (mm) at the motion *m*, as
         :meth:`pitch` gives it, without the curve's points."""
-        f, df, ddf, _ = self.trace(m)
-        return frame_radius(self.sigma, f, df, ddf)
+        return radius_from(self.sigma, *self._parts(m, second=True)[2:])[1]
 
     def working(self, theta: Array, m: Array, lines: FaceLines | None = None) -> CurvePoints:
         """The working curve (cam profile): the envelope of the follower's contact shape.
@@ -166,9 +197,9 @@ class DiscCam:
             normal = rotate(lines.normal, sigma * theta)
             moving = unit(-fol.pivot_sign * perp(contact - self.pivot))
             return signed_angle(moving, normal)
-        f, df, _, moving = self.trace(m)
-        tangent = df - sigma * perp(f)
-        return signed_angle(moving, sigma * perp(tangent))
+        mx, my, d1x, d1y = self._parts(m)
+        nx, ny = sigma * -d1y, sigma * d1x  # the normal σ·perp(C′)
+        return np.arctan2(mx * ny - my * nx, mx * nx + my * ny)  # signed_angle(moving, normal)
 
     def face_contact(self, theta: Array, m: Array, lines: FaceLines | None = None) -> Array:
         """Where a flat face touches the cam, along the face (mm).
