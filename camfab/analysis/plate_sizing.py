@@ -58,8 +58,11 @@ class CamLimits:
         def stop() -> bool:
             return until and not out[-1].ok
 
-        if fol.oscillating or not fol.flat:
-            phi = np.degrees(np.abs(cam.pressure_angle(theta, motion, lines)))
+        parts = cam.pitch_parts(motion) if lines is None else None
+        if parts is not None or fol.oscillating:
+            angle = (parts.pressure_angle() if parts is not None else
+                     cam.pressure_angle(theta, motion, lines))
+            phi = np.degrees(np.abs(angle))
             k = int(np.argmax(phi))
             out.append(LimitValue("pressure_angle" + suffix, "pressure angle",
                                   not bool((phi > self.pressure_deg).any()), float(phi[k]),
@@ -74,7 +77,8 @@ class CamLimits:
                                   not bool(folds.any()), float(working[k]), 0.0, "mm", "min",
                                   _deg(theta[k])))
         else:
-            rho = cam.pitch_radius(motion)
+            assert parts is not None
+            rho = parts.radius()
             radius = fol.radius
             working = rho - radius if radius else rho
             folds = (rho > 0.0) & (rho < radius)

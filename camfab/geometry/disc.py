@@ -62,6 +62,32 @@ class FaceLines:
         return CurvePoints(self.contact(), tangent, np.abs(rate), radius)
 
 
+@dataclass(frozen=True)
+class PitchParts:
+    """The trace point's direction of motion on a rise (mx, my) and the pitch curve's C′ (d1x,
+    d1y, mm/rad) and C″ (d2x, d2y, mm/rad²) in the frame, of a cam turning in sense *sigma*
+    (:meth:`DiscCam.pitch_parts`); a translating follower's direction is the scalar (0, 1)."""
+
+    sigma: int
+    mx: Array | float
+    my: Array | float
+    d1x: Array
+    d1y: Array
+    d2x: Array
+    d2y: Array
+
+    def pressure_angle(self) -> Array:
+        """The signed angle (rad) from the direction of motion to the common normal σ·perp(C′)
+        (:meth:`DiscCam.pressure_angle` for a follower that is not a flat face)."""
+        sigma, mx, my = self.sigma, self.mx, self.my
+        nx, ny = sigma * -self.d1y, sigma * self.d1x
+        return np.arctan2(mx * ny - my * nx, mx * nx + my * ny)  # signed_angle(moving, normal)
+
+    def radius(self) -> Array:
+        """The pitch curve's signed radius of curvature (mm; :meth:`DiscCam.pitch_radius`)."""
+        return radius_from(self.sigma, self.d1x, self.d1y, self.d2x, self.d2y)[1]
+
+
 class DiscCam:
     """A disc cam of *base_radius* (mm) turning in sense *sigma* with *follower*."""
 
@@ -103,37 +129,30 @@ class DiscCam:
         ddf = arm * (a[:, None] * direction + (v * v)[:, None] * turn)
         return f, df, ddf, direction
 
-    def _parts(self, m: Array, second: bool = False) -> tuple[Array | float, ...]:
-        """The trace point's direction of motion on a rise and the pitch curve's C′ in the
-        frame, by component: (mx, my, x′, y′), and with *second* C″ too (x″, y″); mm/rad and
-        mm/rad². The arithmetic of :meth:`trace` and
+    def pitch_parts(self, m: Array) -> PitchParts:
+        """The trace point's direction of motion and the pitch curve's C′ and C″ at the motion
+        *m*, by component (:class:`PitchParts`): the arithmetic of :meth:`trace` and
         :func:`~camfab.curves.plane.curve_from_frame`, operation for operation (the same values
-        to the bit, signed zeros too), on the components instead of stacked points: the sizing
-        measures these some hundreds of times a design."""
+        to the bit, signed zeros too), on the components instead of stacked points, for the
+        pressure angle and the radius of curvature, which the sizing measures some hundreds of
+        times a design."""
         fol, sigma = self.follower, self.sigma
-        s, v = m[0], m[1]
+        s, v, a = m[0], m[1], m[2]
         if not fol.oscillating:  # F = (e, y₀ + s), F′ = (0, s′), F″ = (0, s″), along +Y
             fx, fy = fol.offset, self.rest + s
-            mx, my, dfx, dfy = 0.0, 1.0, 0.0, v
+            mx, my, dfx, dfy, ddfx, ddfy = 0.0, 1.0, 0.0, v, 0.0, a
         else:
             p, arm = fol.pivot_sign, fol.arm_length
             psi = self.rest + s
             c, sn = np.cos(psi), np.sin(psi)
             fx, fy = p * (fol.pivot_distance - arm * c), arm * sn
             mx, my = p * sn, c
-            rate = arm * v
+            rate, square = arm * v, v * v
             dfx, dfy = rate * mx, rate * my
-        d1x, d1y = dfx - sigma * -fy, dfy - sigma * fx
-        if not second:
-            return mx, my, d1x, d1y
-        a = m[2]
-        if not fol.oscillating:
-            ddfx, ddfy = 0.0, a
-        else:
-            square = v * v
             ddfx, ddfy = arm * (a * mx + square * (p * c)), arm * (a * my + square * -sn)
         twice = 2 * sigma
-        return mx, my, d1x, d1y, (ddfx - twice * -dfy) - fx, (ddfy - twice * dfx) - fy
+        return PitchParts(sigma, mx, my, dfx - sigma * -fy, dfy - sigma * fx,
+                          (ddfx - twice * -dfy) - fx, (ddfy - twice * dfx) - fy)
 
     def face_lines(self, theta: Array, m: Array) -> FaceLines:
         """The flat face's line family in the cam frame (THEORY §B, flat faces)."""
@@ -170,7 +189,7 @@ class DiscCam:
     def pitch_radius(self, m: Array) -> Array:
         """The pitch curve's signed radius of curvature (mm) at the motion *m*, as
         :meth:`pitch` gives it, without the curve's points."""
-        return radius_from(self.sigma, *self._parts(m, second=True)[2:])[1]
+        return self.pitch_parts(m).radius()
 
     def working(self, theta: Array, m: Array, lines: FaceLines | None = None) -> CurvePoints:
         """The working curve (cam profile): the envelope of the follower's contact shape.
@@ -197,9 +216,7 @@ class DiscCam:
             normal = rotate(lines.normal, sigma * theta)
             moving = unit(-fol.pivot_sign * perp(contact - self.pivot))
             return signed_angle(moving, normal)
-        mx, my, d1x, d1y = self._parts(m)
-        nx, ny = sigma * -d1y, sigma * d1x  # the normal σ·perp(C′)
-        return np.arctan2(mx * ny - my * nx, mx * nx + my * ny)  # signed_angle(moving, normal)
+        return self.pitch_parts(m).pressure_angle()
 
     def face_contact(self, theta: Array, m: Array, lines: FaceLines | None = None) -> Array:
         """Where a flat face touches the cam, along the face (mm).
