@@ -10,11 +10,13 @@ and the trace point's velocity.
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
 
 from camfab.curves.follower import FollowerGeometry
+from camfab.curves.plane import perp, signed_angle
 from camfab.geometry.disc import DiscCam
 from camfab.pipeline import load_design
 
@@ -102,14 +104,23 @@ def test_pitch_curve_tangent_and_curvature(contact: str, oscillating: bool, sigm
 
 
 @pytest.mark.parametrize(("contact", "oscillating", "sigma", "sign"), CASES, ids=IDS)
-def test_pitch_radius_is_the_pitch_curves_to_the_bit(contact: str, oscillating: bool,
-                                                      sigma: int, sign: int) -> None:
-    """The radius the sizing measures without the curve's points is the pitch curve's, bit for
-    bit (signed zeros and infinities too), joints and all."""
-    _, cam, program, _ = setup(contact, oscillating, sigma, sign)
+def test_pitch_parts_are_the_stacked_arithmetic_to_the_bit(contact: str, oscillating: bool,
+                                                            sigma: int, sign: int) -> None:
+    """The radius and pressure angle the sizing measures on the curve's components are the
+    pitch curve's radius and the angle of the plane helpers on the stacked trace, bit for bit
+    (signed zeros and infinities too), joints and all."""
+    fol, cam, program, _ = setup(contact, oscillating, sigma, sign)
     _, theta, m = program.segment_grid(math.radians(0.5))
-    assert np.array_equal(cam.pitch_radius(m).view(np.int64),
-                          cam.pitch(theta, m).radius.view(np.int64))
+    m[:, ::7] = 0.0  # rests of every kind: s′, s″ zero (and s)
+    centred = DiscCam(replace(fol, offset=0.0), RB, sigma)  # zeros in C′ as well
+    for each in (cam, centred):
+        assert np.array_equal(each.pitch_radius(m).view(np.int64),
+                              each.pitch(theta, m).radius.view(np.int64))
+        if contact != "flat":
+            f, df, _, moving = each.trace(m)
+            stacked = signed_angle(moving, sigma * perp(df - sigma * perp(f)))
+            assert np.array_equal(each.pressure_angle(theta, m).view(np.int64),
+                                  stacked.view(np.int64))
 
 
 @pytest.mark.parametrize(("contact", "oscillating", "sigma", "sign"), CASES, ids=IDS)

@@ -72,7 +72,8 @@ class Grid:
 def grids(program: MotionProgram, step: float = ANALYSIS_STEP) -> tuple[Grid, Grid]:
     """The build's grid of *program* (segment by segment, joints twice, *step* apart), and that
     grid with one four times finer besides. Their arrays are read-only: the last few pairs are
-    kept, for a sizing asks for the same program's several times (a program is its object)."""
+    kept (by the program object, not its value), for a sizing asks for the same program's
+    several times."""
     _, theta, motion = program.segment_grid(step)
     _, fine_theta, fine_motion = program.segment_grid(step / 4.0)
     pair = (Grid(theta, motion), Grid(np.concatenate((theta, fine_theta)),
