@@ -92,10 +92,21 @@ def curve_from_frame(theta: Array, sigma: int, f: Array, df: Array, ddf: Array) 
 
 def _frame_radius(sigma: int, f: Array, df: Array, ddf: Array) -> tuple[Array, Array, Array]:
     """C′ (in the frame), |C′| and the signed radius of curvature (see :func:`curve_from_frame`)."""
-    d1 = df - sigma * perp(f)
-    d2 = ddf - 2 * sigma * perp(df) - f
-    speed, radius = radius_from(sigma, d1[:, 0], d1[:, 1], d2[:, 0], d2[:, 1])
-    return d1, speed, radius
+    d1x, d1y, d2x, d2y = frame_derivatives(sigma, f[:, 0], f[:, 1], df[:, 0], df[:, 1],
+                                           ddf[:, 0], ddf[:, 1])
+    speed, radius = radius_from(sigma, d1x, d1y, d2x, d2y)
+    return np.stack((d1x, d1y), axis=-1), speed, radius
+
+
+def frame_derivatives(sigma: int, fx: Array | float, fy: Array | float, dfx: Array | float,
+                      dfy: Array | float, ddfx: Array | float, ddfy: Array | float
+                      ) -> tuple[Array, Array, Array, Array]:
+    """C′ = F′ − σJF and C″ = F″ − 2σJF′ − F in the frame (see :func:`curve_from_frame`) by
+    component, (x′, y′, x″, y″) in mm/rad and mm/rad², from the components of a frame point F
+    (mm) and of F′ and F″ (arrays, or floats for those that stay the same)."""
+    twice = 2 * sigma
+    return (dfx - sigma * -fy, dfy - sigma * fx, (ddfx - twice * -dfy) - fx,
+            (ddfy - twice * dfx) - fy)
 
 
 def radius_from(sigma: int, d1x: Array, d1y: Array, d2x: Array, d2y: Array

@@ -21,6 +21,7 @@ from camfab.curves.plane import (
     CurvePoints,
     curve_from_frame,
     dot,
+    frame_derivatives,
     offset_inward,
     perp,
     radius_from,
@@ -111,48 +112,38 @@ class DiscCam:
 
     def trace(self, m: Array) -> tuple[Array, Array, Array, Array]:
         """The trace point in the frame: F, F′, F″ and the unit direction it moves in on a rise."""
+        fx, fy, dfx, dfy, ddfx, ddfy, mx, my = self._trace_parts(m)
+
+        def points(x: Array | float, y: Array | float) -> Array:
+            return np.stack(np.broadcast_arrays(x, y), axis=-1)
+
+        return points(fx, fy), points(dfx, dfy), points(ddfx, ddfy), points(mx, my)
+
+    def _trace_parts(self, m: Array) -> tuple[Array | float, ...]:
+        """:meth:`trace` by component: (x, y) of F (mm), F′ (mm/rad), F″ (mm/rad²) and the
+        direction of motion, those of a translating follower that stay the same as floats."""
         fol = self.follower
         s, v, a = m[0], m[1], m[2]
-        if not fol.oscillating:
-            zero = np.zeros_like(s)
-            f = np.stack((np.full_like(s, fol.offset), self.rest + s), axis=-1)
-            df = np.stack((zero, v), axis=-1)
-            ddf = np.stack((zero, a), axis=-1)
-            return f, df, ddf, np.stack((zero, zero + 1.0), axis=-1)
+        if not fol.oscillating:  # F = (e, y₀ + s), F′ = (0, s′), F″ = (0, s″), along +Y
+            return fol.offset, self.rest + s, 0.0, v, 0.0, a, 0.0, 1.0
         p, arm = fol.pivot_sign, fol.arm_length
         psi = self.rest + s
         c, sn = np.cos(psi), np.sin(psi)
-        f = np.stack((p * (fol.pivot_distance - arm * c), arm * sn), axis=-1)
-        direction = np.stack((p * sn, c), axis=-1)
-        turn = np.stack((p * c, -sn), axis=-1)
-        df = arm * v[:, None] * direction
-        ddf = arm * (a[:, None] * direction + (v * v)[:, None] * turn)
-        return f, df, ddf, direction
+        mx, my = p * sn, c  # the direction; the turn is (p·c, −sn)
+        rate, square = arm * v, v * v
+        return (p * (fol.pivot_distance - arm * c), arm * sn, rate * mx, rate * my,
+                arm * (a * mx + square * (p * c)), arm * (a * my + square * -sn), mx, my)
 
     def pitch_parts(self, m: Array) -> PitchParts:
         """The trace point's direction of motion and the pitch curve's C′ and C″ at the motion
-        *m*, by component (:class:`PitchParts`): the arithmetic of :meth:`trace` and
-        :func:`~camfab.curves.plane.curve_from_frame`, operation for operation (the same values
-        to the bit, signed zeros too), on the components instead of stacked points, for the
-        pressure angle and the radius of curvature, which the sizing measures some hundreds of
-        times a design."""
-        fol, sigma = self.follower, self.sigma
-        s, v, a = m[0], m[1], m[2]
-        if not fol.oscillating:  # F = (e, y₀ + s), F′ = (0, s′), F″ = (0, s″), along +Y
-            fx, fy = fol.offset, self.rest + s
-            mx, my, dfx, dfy, ddfx, ddfy = 0.0, 1.0, 0.0, v, 0.0, a
-        else:
-            p, arm = fol.pivot_sign, fol.arm_length
-            psi = self.rest + s
-            c, sn = np.cos(psi), np.sin(psi)
-            fx, fy = p * (fol.pivot_distance - arm * c), arm * sn
-            mx, my = p * sn, c
-            rate, square = arm * v, v * v
-            dfx, dfy = rate * mx, rate * my
-            ddfx, ddfy = arm * (a * mx + square * (p * c)), arm * (a * my + square * -sn)
-        twice = 2 * sigma
-        return PitchParts(sigma, mx, my, dfx - sigma * -fy, dfy - sigma * fx,
-                          (ddfx - twice * -dfy) - fx, (ddfy - twice * dfx) - fy)
+        *m*, by component (:class:`PitchParts`): what :meth:`trace` and
+        :func:`~camfab.curves.plane.curve_from_frame` compute, on the components instead of
+        stacked points (the same arithmetic: the same values to the bit, signed zeros too), for
+        the pressure angle and the radius of curvature, which the sizing measures some hundreds
+        of times a design."""
+        fx, fy, dfx, dfy, ddfx, ddfy, mx, my = self._trace_parts(m)
+        return PitchParts(self.sigma, mx, my,
+                          *frame_derivatives(self.sigma, fx, fy, dfx, dfy, ddfx, ddfy))
 
     def face_lines(self, theta: Array, m: Array) -> FaceLines:
         """The flat face's line family in the cam frame (THEORY §B, flat faces)."""
