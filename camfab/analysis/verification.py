@@ -97,9 +97,14 @@ class StepCheck:
     fitted: bool = False
 
     @property
+    def as_made(self) -> bool:
+        """Valid, one solid per part, and B-splines only where the part's surfaces were fitted."""
+        return (self.valid and self.solids == self.expected_solids
+                and (self.fitted or self.b_splines == 0))
+
+    @property
     def ok(self) -> bool:
         """One valid closed solid per part, of the part's volume, its faces on the contours."""
-        return (self.valid and self.solids == self.expected_solids
+        return (self.as_made
                 and abs(self.volume_mm3 - self.expected_volume_mm3) <= self.volume_allowance_mm3
-                and self.deviation_mm <= self.tolerance_mm
-                and (self.fitted or self.b_splines == 0))
+                and self.deviation_mm <= self.tolerance_mm)

@@ -118,13 +118,13 @@ def _quiet() -> None:
 
 
 def _shape(solid: Solid) -> Any:
-    """*solid* as an OpenCASCADE shape, exactly."""
+    """*solid* as an OpenCASCADE shape, exactly (its pieces' exact forms, which :func:`_exact`
+    has found there)."""
     from OCP.BRepAlgoAPI import BRepAlgoAPI_Cut, BRepAlgoAPI_Fuse
     from OCP.BRepPrimAPI import BRepPrimAPI_MakeCylinder
 
     if isinstance(solid, Extrusion):
-        if solid.exact is None:
-            raise NotExact("an extrusion of sampled points only")
+        assert solid.exact is not None
         return _extrusion(solid.exact, solid.height, solid.z or 0.0)
     if isinstance(solid, Cylinder):
         return _moved(BRepPrimAPI_MakeCylinder(solid.radius, solid.height).Shape(),
@@ -137,14 +137,10 @@ def _shape(solid: Solid) -> Any:
         for shape in shapes[1:]:
             fused = BRepAlgoAPI_Fuse(fused, shape).Shape()
         return fused
-    if isinstance(solid, Mesh) and solid.surfaces:
+    if isinstance(solid, Mesh):
         return _fitted(solid.surfaces)
-    if isinstance(solid, Revolution) and solid.exact is not None:
-        return _revolved(solid.exact)
-    what = "a mesh" if isinstance(solid, Mesh) else (
-        "a revolved section of sampled points" if isinstance(solid, Revolution) else
-        type(solid).__name__)
-    raise NotExact(what)
+    assert solid.exact is not None
+    return _revolved(solid.exact)
 
 
 def _fitted(grids: tuple[Array, ...]) -> Any:

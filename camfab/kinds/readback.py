@@ -192,8 +192,7 @@ def verification_finding(analysis: Analysis, check: Verification) -> Finding:
                      f"{stl.volume_mm3:.6g} mm³ against the part's {stl.expected_volume_mm3:.6g}")
     step = check.step
     if step is not None:
-        shape = ("valid" if step.valid and step.solids == step.expected_solids
-                 and (step.fitted or step.b_splines == 0) else
+        shape = ("valid" if step.as_made else
                  f"NOT as made (valid: {step.valid}, solids: {step.solids} of "
                  f"{step.expected_solids}, B-splines: {step.b_splines})")
         against = ("the STL's" if step.fitted else "the part's exact")
