@@ -287,7 +287,7 @@ def _size_one(path: str, with_offset: bool, with_pivot: bool) -> Outcome:
               help="Run on the Dask cluster of this scheduler (needs camfab[cluster]).")
 @click.option("--size", is_flag=True,
               help="Also find each variant's least base radius (a drum's radius) that meets its "
-                   "limits (some 0.05 s a variant).")
+                   "limits (some hundredths of a second a variant).")
 @click.option("--build-best", type=click.IntRange(0, 1000), default=0, metavar="K",
               help="Build the files of the K best variants by the objective.")
 @click.option("--minimize", metavar="COLUMN", help="The objective: a numeric column to minimise "

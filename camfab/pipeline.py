@@ -109,7 +109,7 @@ def analyse(design: Design, advice: bool = True) -> Analysis:
     """Compute the motion, its kinematics, the cam's geometry, the dynamics and the checks of
     *design*: the checks every cam has, then its kind's analysis, then the dynamics; with
     *advice*, each failed check a sizing answers told the size that passes (a search of some
-    tenths of a second)."""
+    hundredths of a second)."""
     from dataclasses import replace
 
     from camfab.analysis.cam_checks import bore_finding

@@ -251,7 +251,6 @@ def groove_lift(d: Drum, vertices: Array, theta: Array, centre: Array) -> tuple[
     return low, high
 
 
-
 def tube_surfaces(d: Drum, program: MotionProgram, tube: Tube) -> tuple[tuple[Array, ...],
                                                                         Array]:
     """The tube as grids of exact points (mm) at its stations, for B-spline surfaces through

@@ -498,7 +498,6 @@ def mesh_edges(vertices: Array, faces: Array, keep: Array | None = None) -> Arra
     return vertices[edges]
 
 
-
 def tube_surfaces(blank: GloboidCam, program: MotionProgram, made: Tube) -> tuple[
         tuple[Array, ...], Array]:
     """The tube as grids of exact points on the cam (mm) at its stations, for B-spline surfaces
