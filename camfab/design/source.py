@@ -127,6 +127,8 @@ def compose_yaml(text: str, file: str) -> tuple[yaml.Node | None, Any, dict[Path
         mark = exc.problem_mark or exc.context_mark
         line = mark.line + 1 if mark is not None else None
         problem = exc.problem or exc.context or "cannot be parsed"
+        if "nesting depth" in problem:  # PyYAML's own limit (6.0.4 on) can come before camfab's
+            raise DesignError("nested too deeply", location=Location(file, line, "")) from None
         raise DesignError(
             f"invalid YAML: {problem}", location=Location(file, line, "")
         ) from None
