@@ -107,11 +107,11 @@ def sized_values(design: Design, keys: frozenset[str]) -> Sized:
 
 def analyse(design: Design, advice: bool = True) -> Analysis:
     """Compute the motion, its kinematics, the cam's geometry, the dynamics and the checks of
-    *design*: the checks every cam has, then its kind's analysis, then the dynamics; with
-    *advice*, each failed check a sizing answers told the size that passes (a search of some
-    hundredths of a second)."""
-    from dataclasses import replace
-
+    *design*: the checks every cam has, then its kind's analysis, then the rigid dynamics, then
+    the cam at its speed (the elastic follower train, the contact stress, the roller's life);
+    with *advice*, each failed check a sizing answers told the size that passes (a search of
+    some hundredths of a second)."""
+    from camfab.analysis.at_speed import at_speed
     from camfab.analysis.cam_checks import bore_finding
     from camfab.kinds import kind_of
 
@@ -123,10 +123,18 @@ def analyse(design: Design, advice: bool = True) -> Analysis:
     bore = bore_finding(design, kind.mounted)
     findings = [*findings, *([bore] if bore is not None else [])]
     stats = segment_stats(program, steps, units, omega)
-    analysis = kind.analyse(design, program, units, stats, findings)
-    if advice:
-        analysis = _with_advice(analysis)
-    if design.follower.mass is None or kind.drives_both_ways:
+    analysis = at_speed(_with_dynamics(kind.analyse(design, program, units, stats, findings),
+                                       kind.drives_both_ways))
+    return _with_advice(analysis) if advice else analysis
+
+
+def _with_dynamics(analysis: Analysis, drives_both_ways: bool) -> Analysis:
+    """*analysis* with the rigid model's dynamics of a spring-held follower and its ``jump``
+    check (:mod:`camfab.analysis.dynamics`)."""
+    from dataclasses import replace
+
+    design = analysis.design
+    if design.follower.mass is None or drives_both_ways:
         # a groove, a conjugate pair or a yoke drives its follower both ways: no spring to
         # size, and the forces on either side are theirs (camfab.geometry.groove, .conjugate)
         return analysis

@@ -53,6 +53,9 @@ def print_summary(analysis: Analysis) -> None:
     console.print(table)
     for line in analysis.result.summary(analysis):
         console.print(line)
+    speed_line = _at_speed_words(analysis)
+    if speed_line:
+        console.print(speed_line, markup=False, emoji=False)
     sized = sized_words(design)
     if sized is not None:
         console.print(sized, markup=False, emoji=False)
@@ -64,6 +67,31 @@ def print_summary(analysis: Analysis) -> None:
     errors, warnings = count(analysis.findings, "error"), count(analysis.findings, "warning")
     verdict = "[red]FAIL[/red]" if analysis.exit_code else "[green]OK[/green]"
     console.print(f"{verdict}: {errors} error(s), {warnings} warning(s)")
+
+
+def _at_speed_words(analysis: Analysis) -> str | None:
+    """The cam at its speed in a line: the largest contact stress, the follower train's
+    natural frequency and the vibration it leaves in the dwells, the roller's life; None where
+    none is computed."""
+    speed = analysis.at_speed
+    if speed is None:
+        return None
+    parts = []
+    if speed.stress is not None:
+        parts.append(f"contact stress up to {_num(speed.stress.max_MPa)} MPa at "
+                     f"{_num(speed.stress.max_at_deg)}°")
+    shaken = speed.vibration
+    if shaken is not None:
+        words = (f"follower train at {_num(shaken.natural_Hz)} Hz "
+                 f"({_num(shaken.frequency_ratio)}× the cam's), dynamic error up to "
+                 f"{_num(1000.0 * shaken.max_error_m)} mm")
+        if shaken.residual_m is not None:
+            words += f", {_num(1000.0 * shaken.residual_m)} mm left ringing in a dwell"
+        parts.append(words)
+    if speed.life is not None:
+        life = speed.life
+        parts.append(f"{life.names[life.least]}'s bearing L10 {_num(life.hours_min)} h")
+    return f"at speed: {'; '.join(parts)}" if parts else None
 
 
 def laws_table() -> None:

@@ -2,8 +2,9 @@
 downloads a browser): for one design of every cam kind the slider is moved to several cam
 angles, and the follower's drawn position, the cam's turn and the readout are held to the
 motion table and to the follower's geometry (SPEC §2, computed here from the report's numbers);
-the page raises no script error and draws something; no legend box covers a plotted curve (from
-the SVG's geometry); printed to PDF, no page ends on a heading. The JSON report carries every
+the page raises no script error and draws something; the figures of the cam at its speed follow
+the slider too; no legend box covers a plotted curve (from the SVG's geometry); printed to PDF,
+no page ends on a heading. The JSON report carries every
 input of the design (the design model's fields walked)."""
 
 from __future__ import annotations
@@ -183,6 +184,43 @@ def test_the_slider_moves_the_follower_the_cam_and_the_readout_as_the_motion_tab
     assert np.count_nonzero(pixels < 200) > 2000
 
 
+def test_the_figures_at_speed_follow_the_slider_and_the_readout_shows_their_numbers(
+        browser: Any, tmp_path: Path) -> None:
+    """Every figure over the cam angle (the diagrams, the contact stress, the follower train)
+    moves its cursor to the frame's angle, and the readout gives the motion table's contact
+    stress, dynamic displacement and dynamic contact force of that row."""
+    page, _, csv = _page("demo-valve-at-speed", tmp_path)
+    header = csv.splitlines()[0].split(",")
+    rows = [[float(v) for v in line.split(",")] for line in csv.strip().splitlines()[1:]]
+    browser.get(page.as_uri())
+    assert browser.execute_script("return document.body.dataset.ready") == "yes"
+    labels = browser.execute_script(
+        "return Array.prototype.map.call(document.querySelectorAll('#readout th'),"
+        "function (th) { return th.textContent; });")
+    for label in ("contact stress (MPa)", "dynamic displacement (mm)",
+                  "dynamic contact force (N)"):
+        assert label in labels
+    for index in (0, 90, 200, 333):
+        _frame(browser, index)
+        readout = browser.execute_script(
+            "return Array.prototype.map.call(document.querySelectorAll('#readout td'),"
+            "function (td) { return td.textContent; });")
+        for name, label in (("contact_stress_MPa", "contact stress (MPa)"),
+                            ("dynamic_displacement_mm", "dynamic displacement (mm)"),
+                            ("dynamic_contact_force_N", "dynamic contact force (N)")):
+            want = rows[index][header.index(name)]
+            assert float(readout[labels.index(label)]) == pytest.approx(want, rel=1e-5,
+                                                                          abs=1e-6)
+        shifts = browser.execute_script(
+            "return Array.prototype.map.call(document.querySelectorAll('[data-cursor]'),"
+            "function (c) { var m = c.transform.baseVal.consolidate();"
+            "return [m ? m.matrix.e : 0, +c.getAttribute('data-cursor').split(' ')[1]]; });")
+        assert len(shifts) == 3
+        for shift, per_degree in shifts:
+            assert shift == pytest.approx(per_degree * rows[index][0], abs=0.01)
+    assert browser.execute_script("return document.body.dataset.errors") == "0"
+
+
 def _curves_and_legends(svg: str) -> tuple[list[np.ndarray], list[tuple[float, ...]]]:
     """The plotted curves' points (pt) and the legend boxes of an SVG figure."""
     root = ET.fromstring(svg)
@@ -204,10 +242,12 @@ def _curves_and_legends(svg: str) -> tuple[list[np.ndarray], list[tuple[float, .
 
 @pytest.mark.parametrize("path", DESIGN_FILES, ids=[p.stem for p in DESIGN_FILES])
 def test_no_legend_covers_a_curve(path: Path) -> None:
-    from camfab.export import figures
+    from camfab.export import figures, speed_figures
 
     analysis = analyse(load_design(path))
-    for svg in (figures.cam_drawing(analysis), figures.diagrams(analysis)):
+    for svg in (figures.cam_drawing(analysis), figures.diagrams(analysis),
+                speed_figures.stress_figure(analysis), speed_figures.vibration_figure(analysis),
+                speed_figures.spectrum_figure(analysis)):
         if svg is None:
             continue
         curves, legends = _curves_and_legends(svg)

@@ -108,11 +108,13 @@ def drum_findings(design: Design, dense: DrumDense, numbers: DrumNumbers) -> lis
 def drum_problem(design: Design, grid_pair: tuple[Grid, Grid]) -> SizeProblem:
     """The sizing of a drum's radius (mm): the pressure angle at the groove's floor (tan φ =
     s′/r), the developed groove's curvature against the roller at every radius of the groove
-    (the build's ``groove`` check), and the drum's fit as the design file's rules judge it: a
-    wall under the groove, round the bore and beyond the keyway. Measured on *grid_pair* (the
-    build's grid of cam angles, and with a finer one)."""
+    (the build's ``groove`` check), the contact stress on the flanks where the design limits
+    it, and the drum's fit as the design file's rules judge it: a wall under the groove, round
+    the bore and beyond the keyway. Measured on *grid_pair* (the build's grid of cam angles,
+    and with a finer one)."""
     from dataclasses import replace
 
+    from camfab.analysis.stress_sizing import stress_limit
     from camfab.design.rules import MIN_WALL_MM, wall_need
     from camfab.geometry.drum import ANALYSIS_RADII
 
@@ -130,6 +132,7 @@ def drum_problem(design: Design, grid_pair: tuple[Grid, Grid]) -> SizeProblem:
                           wall_need(cam.bore, cam.keyway.depth)))
     # the drum of the design at radius 1: only its radius changes
     base = replace(_drum_of(design), radius=1.0)
+    stress = stress_limit(design, program, grid_pair, True, depth, "cam.groove_depth")
 
     def evaluate(radius: float, fine: bool, until: bool = False) -> list[LimitValue]:
         fit = [LimitValue(key, what, radius >= need, radius, need, least=need)
@@ -146,14 +149,22 @@ def drum_problem(design: Design, grid_pair: tuple[Grid, Grid]) -> SizeProblem:
         size = np.abs(np.stack([drum.developed_radius(ds, dds, r) for r in
                                 np.linspace(drum.root, drum.radius, ANALYSIS_RADII)]))
         row, col = np.unravel_index(int(np.argmin(size)), size.shape)
-        return [*fit,
-                LimitValue("pressure_angle", "pressure angle at the groove's floor",
-                           not bool((phi > limit_deg).any()), float(phi[k]), limit_deg, "deg",
-                           "max", math.degrees(float(theta[k])), least=least),
-                LimitValue("groove", "the developed groove's radius of curvature against the "
-                           "roller", not bool((size <= drum.roller).any()),
-                           float(size[row, col]), drum.roller, "mm", "min",
-                           math.degrees(float(theta[col])))]
+        out = [*fit,
+               LimitValue("pressure_angle", "pressure angle at the groove's floor",
+                          not bool((phi > limit_deg).any()), float(phi[k]), limit_deg, "deg",
+                          "max", math.degrees(float(theta[k])), least=least),
+               LimitValue("groove", "the developed groove's radius of curvature against the "
+                          "roller", not bool((size <= drum.roller).any()),
+                          float(size[row, col]), drum.roller, "mm", "min",
+                          math.degrees(float(theta[col])))]
+        if stress is not None and not (until and not all(limit.ok for limit in out)):
+            # the flanks as the build's contact has them (camfab.kinds.drum)
+            radii = np.linspace(drum.root, drum.radius, ANALYSIS_RADII)[:, None]
+            normal = 1.0 / np.mean(np.cos(drum.pressure_angle(ds, radii)), axis=0)
+            out.append(stress.at(grid, fine, [
+                (1, drum.flank_curvature(ds, dds, radii, True), normal),
+                (-1, drum.flank_curvature(ds, dds, radii, False), normal)]))
+        return out
 
     low = max(need for _, _, need in needs)
     return SizeProblem("radius", evaluate, low, low + SEARCH_FACTOR * program.max_lift)

@@ -65,7 +65,7 @@ class Dynamics:
         return None if self.jump_speed_rad_s is None else self.jump_speed_rad_s * 30 / math.pi
 
 
-def _trace_scale(design: Design) -> float:
+def trace_scale(design: Design) -> float:
     """Metres of the follower's motion per unit of the program's lift (mm, or rad of swing)."""
     fol = design.follower
     if fol.oscillating:
@@ -81,7 +81,7 @@ def dynamics(design: Design, program: MotionProgram) -> Dynamics | None:
         return None
     segment, theta, m = program.segment_grid(STEP)
     del segment
-    scale = _trace_scale(design)
+    scale = trace_scale(design)
     s, ds, dds = m[0] * scale, m[1] * scale, m[2] * scale  # m, m/rad, m/rad²
     damping, load = (0.0, 0.0) if spring is None else (spring.damping, spring.external_load)
     weight = mass * G if spring is not None and spring.gravity else 0.0

@@ -22,7 +22,7 @@ from camfab.geometry.globoid_cam import ANALYSIS_STEP, GloboidCam, groove_extent
 from camfab.motion.program import MotionProgram
 
 #: Cam-angle step (rad) of the differences the undercut's regularity is taken from.
-_UNDERCUT_STEP = 1e-4
+UNDERCUT_STEP = 1e-4
 
 
 @dataclass(frozen=True)
@@ -50,7 +50,7 @@ def globoid_dense(blank: GloboidCam, program: MotionProgram) -> GloboidDense:
     ells = blank.contact()
     phi = g.pressure_angle(ells[:, None], g.rest + m[0][None, :], m[1][None, :])
     deep = np.linspace(blank.surface, blank.floor, 7)[:, None]
-    h = _UNDERCUT_STEP
+    h = UNDERCUT_STEP
     limit = undercut_radii(g, theta[None, :], deep, m[:, None, :],
                            program.evaluate(theta + h)[:, None, :],
                            program.evaluate(theta - h)[:, None, :], h).min(axis=0)

@@ -25,10 +25,11 @@ from camfab.analysis.sizing import (
     grids,
     passes,
 )
+from camfab.analysis.stress_sizing import StressLimit, plate_sides, stress_limit
 from camfab.arrays import Array
 from camfab.curves.follower import FollowerGeometry
 from camfab.design.rules import MIN_WALL_MM, oscillating_fit, wall_need
-from camfab.geometry.disc import DiscCam
+from camfab.geometry.disc import DiscCam, PitchParts
 from camfab.motion.mirror import opposite
 
 if TYPE_CHECKING:
@@ -39,17 +40,21 @@ if TYPE_CHECKING:
 @dataclass(frozen=True)
 class CamLimits:
     """What one plate is held to: the pressure-angle limit (deg), the curvature margin (mm), the
-    flat face's width (mm, or None), and whether it is a groove (both walls must be offsets)."""
+    flat face's width (mm, or None), whether it is a groove (both walls must be offsets), and
+    the contact stress (None: not held to one)."""
 
     pressure_deg: float
     margin: float
     face_width: float | None
     groove: bool
+    stress: StressLimit | None = None
 
-    def at(self, cam: DiscCam, grid: Grid, suffix: str = "", until: bool = False
-           ) -> list[LimitValue]:
-        """The limits of *cam* on *grid*; ids end in *suffix* (``_b`` for cam b of a pair).
-        With *until*, the limits up to the first that fails (all a bisection needs)."""
+    def at(self, cam: DiscCam, grid: Grid, suffix: str = "", until: bool = False,
+           fine: bool = False, carries: int = 1) -> list[LimitValue]:
+        """The limits of *cam* on *grid* (the sizing's finer grid when *fine*); ids end in
+        *suffix* (``_b`` for cam b of a pair, which carries the follower where the force
+        along its motion is negative: *carries* −1). With *until*, the limits up to the
+        first that fails (all a bisection needs)."""
         fol = cam.follower
         theta, motion = grid.theta, grid.motion
         lines = cam.face_lines(theta, motion) if fol.flat else None
@@ -104,13 +109,40 @@ class CamLimits:
                                   "min", at))
             if stop():
                 return out
-        if fol.flat and self.face_width is not None:
-            contact = cam.face_contact(theta, motion, lines)
+        contact = cam.face_contact(theta, motion, lines) if fol.flat else None
+        if contact is not None and self.face_width is not None:
             low_mm, high_mm = float(contact.min()), float(contact.max())
             needed = high_mm - low_mm if fol.oscillating else 2.0 * max(abs(low_mm), abs(high_mm))
             out.append(LimitValue("face_width" + suffix, "the face width the contact needs",
                                   self.face_width >= needed, needed, self.face_width, "mm", "max"))
+            if stop():
+                return out
+        if self.stress is not None:
+            out.append(self.stress.at(grid, fine, self._sides(cam, parts, working, contact,
+                                                              carries), suffix))
         return out
+
+    def _sides(self, cam: DiscCam, parts: PitchParts | None, working: Array,
+               contact: Array | None, carries: int) -> list[tuple[int, Array, Array]]:
+        """The plate's sides under the follower for the contact stress, as the build's
+        contact has them (:meth:`camfab.kinds.disc.PlateResult.contact`): the profile of
+        radius *working* (mm) and a groove's outer wall, the normal force 1/cos φ, or for an
+        oscillating flat face the arm over the contact's distance along it (*contact*, mm)."""
+        fol = cam.follower
+        if fol.flat:
+            if fol.oscillating:
+                assert contact is not None
+                with np.errstate(divide="ignore"):
+                    normal = fol.arm_length / np.abs(contact)
+            else:
+                normal = np.ones_like(working)
+            pitch = None
+        else:
+            assert parts is not None
+            normal = 1.0 / np.cos(parts.pressure_angle())
+            pitch = parts.radius()
+        sides = plate_sides(working, normal, fol.radius if self.groove else None, pitch)
+        return [(carries * side, curvature, load) for side, curvature, load in sides]
 
 
 def _deg(theta: float) -> float:
@@ -183,8 +215,11 @@ def plate_problem(design: Design, follower: FollowerGeometry, grid_pair: tuple[G
     build's grid, and with the finer one)."""
     limits = design.limits
     face_width = design.follower.face_width
+    extent = (design.cam.groove_depth, "cam.groove_depth") if groove else (
+        design.cam.thickness, "cam.thickness")
+    stress = stress_limit(design, design.program, grid_pair, groove or partner, *extent)
     rules = CamLimits(math.degrees(design.pressure_angle_limit), limits.min_radius_of_curvature,
-                      face_width, groove)
+                      face_width, groove, stress)
     working = replace(follower, radius=follower.radius + clearance)
     sigma = design.cam.sigma
     pair_grids = grids(opposite(design.program)) if partner else None
@@ -194,10 +229,10 @@ def plate_problem(design: Design, follower: FollowerGeometry, grid_pair: tuple[G
         if not all(limit.ok for limit in fit):
             return fit
         cam = DiscCam(working, base, sigma)
-        out = [*fit, *rules.at(cam, grid_pair[fine], until=until)]
+        out = [*fit, *rules.at(cam, grid_pair[fine], until=until, fine=fine)]
         if partner and not (until and not passes(out)):
             assert pair_grids is not None
-            out += _partner_limits(design, cam, rules, pair_grids[fine], until)
+            out += _partner_limits(design, cam, rules, pair_grids[fine], until, fine)
         return out
 
     low = least_fit(design, working)
@@ -206,7 +241,7 @@ def plate_problem(design: Design, follower: FollowerGeometry, grid_pair: tuple[G
 
 
 def _partner_limits(design: Design, cam_a: DiscCam, rules: CamLimits, grid: Grid,
-                    until: bool) -> list[LimitValue]:
+                    until: bool, fine: bool) -> list[LimitValue]:
     """Cam b of a conjugate pair whose cam a is *cam_a*: a base circle round the bore, and the
     limits of a plate."""
     from camfab.geometry.conjugate import partner_base_radius, partner_cam
@@ -218,4 +253,4 @@ def _partner_limits(design: Design, cam_a: DiscCam, rules: CamLimits, grid: Grid
     if not fit.ok:
         return [fit]
     cam_b, _ = partner_cam(design, cam_a)
-    return [fit, *rules.at(cam_b, grid, "_b", until)]
+    return [fit, *rules.at(cam_b, grid, "_b", until, fine, carries=-1)]

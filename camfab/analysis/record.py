@@ -12,6 +12,8 @@ from camfab.design import Design
 from camfab.motion.program import MotionProgram
 
 if TYPE_CHECKING:
+    from camfab.analysis.at_speed import AtSpeed
+    from camfab.analysis.contact import Contact
     from camfab.analysis.dynamics import Dynamics
     from camfab.analysis.verification import Verification
     from camfab.arrays import Array
@@ -31,6 +33,10 @@ class CamResult:
     #: ``camfab inspect`` with another follower runs it over the working curve sampled finer
     #: than the cam's outline (a disc cam's), rather than over the outline as computed.
     refine_for_inspection = False
+    #: True when the cam holds its follower on both sides of its motion (a groove's walls, a
+    #: pair's two cams, a drum's or a globoid's flanks): without a spring the force on it is
+    #: the inertia alone, on whichever side carries it.
+    two_sided = False
 
     def kind_name(self, design: Design) -> str:
         """What the cam is called in a sentence ("disc cam")."""
@@ -51,6 +57,12 @@ class CamResult:
 
     def dynamics_note(self, analysis: Analysis) -> str | None:
         """Why there are no dynamics, where the kind has its own reason."""
+        return None
+
+    def contact(self, analysis: Analysis) -> Contact | None:
+        """How the follower touches the cam over the analysis grid
+        (:class:`~camfab.analysis.contact.Contact`), for the contact stress and the roller's
+        life; None for a kind whose contact is not modelled."""
         return None
 
     def sampled_lift(self) -> LiftCheck | None:
@@ -113,6 +125,9 @@ class Analysis:
     result: CamResult
     verification: Verification | None = None
     dynamics: Dynamics | None = None
+    #: The cam at its speed: the elastic follower train, the contact stress and the roller's
+    #: life (:mod:`camfab.analysis.at_speed`).
+    at_speed: AtSpeed | None = None
 
     def __getattr__(self, name: str) -> Any:
         if name.startswith("_") or name == "result":  # (copy and pickle look for these)

@@ -468,11 +468,12 @@ def _rounded(problem: SizeProblem, found: Found, step: float) -> Found:
 
 
 def fmt(value: float | None, unit: str = "") -> str:
-    """A value in a sizing's words: 4 decimals for millimetres, 4 significant digits else."""
+    """A value in a sizing's words: 4 decimals for millimetres, 4 significant digits else,
+    with its unit."""
     if value is None:
         return "–"
     text = f"{value:.4f}" if unit == "mm" else f"{value:.4g}"
-    return f"{text}{'°' if unit == 'deg' else ' mm' if unit == 'mm' else ''}"
+    return f"{text}{'°' if unit == 'deg' else f' {unit}' if unit else ''}"
 
 
 def unmet_words(sizing: Sizing, name: str) -> str:
@@ -496,7 +497,8 @@ def unmet_words(sizing: Sizing, name: str) -> str:
 
 #: The checks a sizing can answer, when the sizing sees them fail too (a roller's envelope that
 #: crosses itself at a velocity step is an undercut no radius removes).
-ADVISED = ("pressure_angle", "undercut", "curvature", "groove", "face_width")
+ADVISED = ("pressure_angle", "undercut", "curvature", "groove", "face_width",
+           "contact_stress")
 
 
 def advice(design: Design, problem_of: ProblemOf, failing: set[str]) -> dict[str, str]:
@@ -510,7 +512,9 @@ def advice(design: Design, problem_of: ProblemOf, failing: set[str]) -> dict[str
     name = SIZE_NAMES[problem.key]
     current = design.cam.radius if problem.key == "radius" else design.cam.base_radius
     assert current is not None
-    seen = {limit.id for limit in problem.evaluate(current, False) if not limit.ok} & failing
+    # the contact stress is one check of both cams of a pair, a limit of each
+    seen = {"contact_stress" if limit.id == "contact_stress_b" else limit.id
+            for limit in problem.evaluate(current, False) if not limit.ok} & failing
     if not seen:
         return {}
     here = size_design(design, frozenset({f"cam.{problem.key}"}), problem_of)

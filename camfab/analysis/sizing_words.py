@@ -25,9 +25,13 @@ def step(design: Design, mm: float) -> str:
 
 
 def _value(design: Design, value: float | None, unit: str) -> str:
+    """A limit's value: an angle (deg), a length (mm, shown in the design's units) or another
+    quantity in its *unit* (a stress in MPa)."""
     if value is None:
         return "–"
-    return f"{value:.4g}°" if unit == "deg" else length(design, value)
+    if unit == "deg":
+        return f"{value:.4g}°"
+    return length(design, value) if unit == "mm" else f"{value:.4g} {unit}"
 
 
 def limit_words(design: Design, limit: LimitValue) -> str:

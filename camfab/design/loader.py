@@ -13,7 +13,7 @@ from typing import Any, NoReturn
 from pydantic import ValidationError
 
 from camfab.design.cam_types import CAM_TYPES, CamTypeSpec
-from camfab.design.model import Design, Sized
+from camfab.design.model import MATERIAL_TAGS, Design, Sized
 from camfab.design.rules import RuleViolation
 from camfab.design.source import Path_, SourceDocument, dotted, parse_yaml, read_design_file
 from camfab.design.units import MM_PER_UNIT
@@ -22,10 +22,11 @@ from camfab.errors import DesignError, Location, did_you_mean
 SEGMENT_KINDS = {"rise": "rise", "return": "return", "fall": "return", "dwell": "dwell"}
 
 _TOP = ("name", "description", "units", "cam", "follower", "motion", "spring", "limits",
-        "manufacturing", "sizing", "outputs", "table_step")
+        "materials", "manufacturing", "sizing", "outputs", "table_step")
 _SECTIONS: dict[str, tuple[str, ...]] = {
     "spring": ("rate", "preload", "initial_compression", "gravity", "damping", "external_load"),
-    "limits": ("pressure_angle", "min_radius_of_curvature"),
+    "limits": ("pressure_angle", "min_radius_of_curvature", "contact_stress", "roller_life"),
+    "materials": ("cam", "follower"),
     "manufacturing": ("tolerance", "kerf", "cutter_radius"),
     "sizing": ("round_to",),
 }
@@ -38,6 +39,7 @@ MAX_TABLE_BYTES = 1_000_000
 MAX_TABLE_ROWS = 20_000
 
 _KEYWAY = ("width", "depth")
+_ELASTIC = ("E", "poisson")
 _CONDITIONS = ("velocity", "acceleration", "jerk")
 _LAW_KEYS = {
     "modified-uniform-velocity": ("blend",),
@@ -288,6 +290,9 @@ class _Shaper:
                       _follower_label(follower))
         for section, allowed in _SECTIONS.items():
             self.keys(data.get(section), allowed, (section,), section)
+        for part in ("cam", "follower"):
+            self.keys(_get(data, "materials", part), _ELASTIC, ("materials", part),
+                      "a material's constants")
         if "motion" in data:
             self.span = spec.span if spec is not None else "angle"
             data["motion"] = self._motion(data["motion"])
@@ -391,24 +396,26 @@ def _follower_keys(spec: CamTypeSpec | None, follower: dict[str, Any]) -> tuple[
     ftype = _text(follower.get("type"))
     ftype = "mushroom" if ftype == "spherical" else ftype
     motion = _text(follower.get("motion", "translating"))
-    keys = ["type", "motion", "mass"]
+    keys = ["type", "motion", "mass", "stiffness", "damping_ratio"]
     if motion == "oscillating":
         keys += ["pivot_distance", "arm_length", "pivot_side"]
         if ftype == "flat":
             keys.append("face_offset")
     else:
         keys.append("offset")
-    keys += {"roller": ["roller_radius"], "mushroom": ["face_radius"],
-             "flat": ["face_width"]}.get(ftype or "", [])
+    keys += {"roller": ["roller_radius", "roller_length", "roller_load_rating",
+                        "roller_bearing"],
+             "mushroom": ["face_radius"], "flat": ["face_width"]}.get(ftype or "", [])
     if spec is not None:
         keys += spec.follower_keys(motion == "oscillating")
     if ftype not in ("knife", "roller", "flat", "mushroom") or motion not in (
             "translating", "oscillating"):
         # the type itself is wrong: accept every follower key and let the type error speak
-        keys = ["type", "motion", "mass", "offset", "roller_radius", "face_radius", "face_width",
-                "pivot_distance", "arm_length", "pivot_side", "face_offset", "groove_clearance",
-                "roller_spacing", "arm_angle", "roller_length", "rest_angle"]
-    return tuple(keys)
+        keys = ["type", "motion", "mass", "stiffness", "damping_ratio", "offset",
+                "roller_radius", "roller_length", "roller_load_rating", "roller_bearing",
+                "face_radius", "face_width", "pivot_distance", "arm_length", "pivot_side",
+                "face_offset", "groove_clearance", "roller_spacing", "arm_angle", "rest_angle"]
+    return tuple(dict.fromkeys(keys))
 
 
 def _follower_label(follower: dict[str, Any]) -> str:
@@ -453,7 +460,8 @@ def _first_error(exc: ValidationError, doc: SourceDocument, shaped: _Shaper) -> 
     """The pydantic error nearest the top of the file, as a camfab message."""
     best: tuple[int, DesignError] | None = None
     for err in exc.errors(include_url=False):
-        loc = tuple(p for p in err["loc"] if isinstance(p, int) or "[" not in str(p))
+        loc = tuple(p for p in err["loc"] if isinstance(p, int) or (
+            "[" not in str(p) and p not in MATERIAL_TAGS))
         if loc and loc[-1] in ("float", "str", "function-before", "tagged-union"):
             loc = loc[:-1]
         yaml_path = shaped.yaml_path(loc)

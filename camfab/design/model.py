@@ -20,7 +20,9 @@ from pydantic import (
     BaseModel,
     BeforeValidator,
     ConfigDict,
+    Discriminator,
     Field,
+    Tag,
     ValidationInfo,
     field_validator,
     model_validator,
@@ -181,6 +183,10 @@ class Follower(Frozen):
     roller_length: PositiveLength | None = None
     rest_angle: Angle | None = None
     mass: Annotated[float, _as(U.MASS), Field(gt=0)] | None = None
+    stiffness: Annotated[float, _as(U.RATE), Field(gt=0)] | None = None
+    damping_ratio: Annotated[float, Field(ge=0)] | None = None
+    roller_load_rating: Annotated[float, _as(U.FORCE), Field(gt=0)] | None = None
+    roller_bearing: Literal["needle", "ball"] | None = None
 
     @field_validator("type", mode="before")
     @classmethod
@@ -190,6 +196,20 @@ class Follower(Frozen):
     @property
     def oscillating(self) -> bool:
         return self.motion == "oscillating"
+
+    @property
+    def train_damping_ratio(self) -> float:
+        """ζ of the follower train's own damper: ``damping_ratio``, or
+        :data:`DEFAULT_DAMPING_RATIO` with a ``stiffness`` (0 without one)."""
+        if self.damping_ratio is not None:
+            return self.damping_ratio
+        return DEFAULT_DAMPING_RATIO if self.stiffness is not None else 0.0
+
+    @property
+    def life_exponent(self) -> float:
+        """The exponent p of the roller bearing's life, L₁₀ = (C/P)ᵖ: 10/3 for a needle
+        (roller) bearing, the default, 3 for a ball bearing (ISO 281)."""
+        return 3.0 if self.roller_bearing == "ball" else 10.0 / 3.0
 
     @property
     def trace_radius(self) -> float:
@@ -238,6 +258,12 @@ def _point(value: Any, info: ValidationInfo) -> Any:
 
 
 Point = Annotated[tuple[float, float], BeforeValidator(_point)]
+
+
+#: The follower train's damping ratio ζ when a design gives a ``stiffness`` and no
+#: ``damping_ratio``: 0.05, the middle of the 0.02–0.1 that measured cam-follower trains show
+#: (Norton, *Cam Design and Manufacturing Handbook*, ch. 10).
+DEFAULT_DAMPING_RATIO = 0.05
 
 
 #: Smallest blend of the modified-uniform-velocity law (a share of the segment at each end).
@@ -295,11 +321,75 @@ class Spring(Frozen):
 
 
 class Limits(Frozen):
-    """Design limits: ``pressure_angle`` (rad; default 30° translating, 35° oscillating) and an
-    extra ``min_radius_of_curvature`` margin (mm) on the convex working curve."""
+    """Design limits: ``pressure_angle`` (rad; default 30° translating, 35° oscillating), an
+    extra ``min_radius_of_curvature`` margin (mm) on the convex working curve, the allowed
+    Hertz ``contact_stress`` (MPa) and the least ``roller_life`` (hours); the last two are
+    checked only where given."""
 
     pressure_angle: PositiveAngle | None = None
     min_radius_of_curvature: NonNegativeLength = 0.0
+    contact_stress: Annotated[float, _as(U.STRESS), Field(gt=0)] | None = None
+    roller_life: Annotated[float, _as(U.DURATION), Field(gt=0)] | None = None
+
+
+class Elastic(Frozen):
+    """A material given by its elastic constants: Young's modulus ``E`` (MPa) and Poisson's
+    ratio ``poisson``."""
+
+    E: Annotated[float, _as(U.STRESS), Field(gt=0)]
+    poisson: Annotated[float, Field(ge=0, le=0.5)]
+
+
+def _material(value: Any) -> Any:
+    """A material's name (one of :data:`~camfab.design.materials.MATERIALS`, or an alias) as
+    its canonical name (a mapping is an :class:`Elastic`)."""
+    from camfab.design.materials import ALIASES, MATERIALS, material
+
+    if not isinstance(value, str):
+        raise _problem("must be a material's name or {E, poisson}", ", ".join(MATERIALS),
+                       kind="shape")
+    if material(value) is None:
+        raise _problem("unknown material", ", ".join(MATERIALS) + ", or {E, poisson}",
+                       did_you_mean(value.strip().lower(), [*MATERIALS, *ALIASES]),
+                       kind="shape")
+    key = value.strip().lower()
+    return ALIASES.get(key, key)
+
+
+#: The tags of a material's two forms, which pydantic's errors carry in their location.
+MATERIAL_TAGS = ("material-name", "material-constants")
+
+
+
+def _material_form(value: Any) -> str:
+    """Which form of a material *value* is: its constants (a mapping), else a name."""
+    return MATERIAL_TAGS[1] if isinstance(value, (dict, Elastic)) else MATERIAL_TAGS[0]
+
+
+#: A material: its name, or its constants (the error of the form given, not of both).
+MaterialSpec = Annotated[
+    Annotated[Annotated[str, BeforeValidator(_material)], Tag(MATERIAL_TAGS[0])]
+    | Annotated[Elastic, Tag(MATERIAL_TAGS[1])],
+    Discriminator(_material_form)]
+
+
+class Materials(Frozen):
+    """What the cam and the follower are made of: a material's name (steel, cast-iron, bronze,
+    aluminium, pom, ...) or its constants ``{E, poisson}``; steel on steel unless given."""
+
+    cam: MaterialSpec = "steel"
+    follower: MaterialSpec = "steel"
+
+    def constants(self, part: Literal["cam", "follower"]) -> tuple[float, float]:
+        """Young's modulus (MPa) and Poisson's ratio of the *part*'s material."""
+        from camfab.design.materials import material
+
+        spec = getattr(self, part)
+        if isinstance(spec, Elastic):
+            return spec.E, spec.poisson
+        found = material(spec)
+        assert found is not None, "the model refuses unknown names"
+        return found.youngs_modulus, found.poisson
 
 
 #: Default chord tolerance of exported curves: a thousandth of a millimetre, well inside what a
@@ -353,6 +443,7 @@ class Design(Frozen):
     motion: Annotated[tuple[Segment, ...], Field(min_length=1)] | None = None
     spring: Spring | None = None
     limits: Limits = Limits()
+    materials: Materials = Materials()
     manufacturing: Manufacturing = Manufacturing()
     outputs: tuple[OutputName, ...] | None = None
     table_step: PositiveAngle = math.radians(1.0)

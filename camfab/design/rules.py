@@ -83,6 +83,8 @@ def check_rules(design: Design, sizing: frozenset[str] = frozenset()) -> None:
     _check_swinging_face(design, program)
     _check_manufacturing(design)
     _check_other(design)
+    _check_train(design)
+    _check_life(design)
     _check_size(design, program.max_lift)
 
 
@@ -355,6 +357,65 @@ def _check_other(design: Design) -> None:
     if spring is not None and spring.preload is not None and spring.initial_compression is not None:
         fail(("spring", "initial_compression"), "give either preload or initial_compression, "
              "not both", show_got=False)
+
+
+#: How near a whole number the undamped follower train's natural frequency may come to a
+#: multiple of the cam's turning frequency before camfab refuses it as resonance: nearer, its
+#: steady state would be some 1e6 times the lift.
+RESONANCE_SHARE = 1e-6
+
+
+def _check_train(design: Design) -> None:
+    """An elastic follower train (``follower.stiffness``) needs the follower's mass and the
+    cam's speed; its damping ratio is below 1 (the model is of a train that rings), with the
+    spring's own damping too; an undamped train may not resonate with the cam."""
+    fol, spring, omega = design.follower, design.spring, design.cam.omega
+    if fol.stiffness is None:
+        if fol.damping_ratio is not None:
+            fail(("follower", "damping_ratio"), "only an elastic follower train has a damping "
+                 "ratio: give follower.stiffness (N/mm) too")
+        return
+    if fol.mass is None:
+        fail(("follower", "stiffness"), "an elastic follower train needs the follower's mass: "
+             "give follower.mass (kg)", show_got=False)
+    if omega is None:
+        fail(("follower", "stiffness"), "an elastic follower train needs the cam's speed: give "
+             "cam.speed_rpm", show_got=False)
+    assert fol.mass is not None and omega is not None
+    zeta = fol.train_damping_ratio
+    if zeta >= 1.0:
+        fail(("follower", "damping_ratio"), "must be below 1: camfab's elastic model is of a "
+             "follower train that rings (ζ of 0.02–0.1 is usual); at 1 and above it does not "
+             "vibrate, and the rigid model (no stiffness) says what it does")
+    # the trace point's equivalents, as in the rigid model: N/m and kg
+    total = (fol.stiffness + (spring.rate if spring is not None else 0.0)) * 1000.0
+    damping = spring.damping if spring is not None else 0.0
+    total_zeta = zeta + damping / (2.0 * math.sqrt(fol.mass * total))
+    if total_zeta >= 1.0:
+        fail(("spring", "damping"), f"with the follower train's damping ratio {zeta:.4g}, makes "
+             f"the train critically damped or more (ζ = {total_zeta:.4g}); camfab's elastic "
+             "model is of a train that rings: lower the damping")
+    if total_zeta == 0.0:
+        order = math.sqrt(total / fol.mass) / omega
+        if abs(order - round(order)) <= RESONANCE_SHARE * order:
+            fail(("follower", "stiffness"), f"makes the undamped follower train resonate: its "
+                 f"natural frequency is {round(order)} times the cam's at "
+                 f"{design.cam.speed_rpm:.6g} rpm, and its vibration grows without bound; give a "
+                 "damping_ratio, or change the stiffness, the mass or the speed")
+
+
+def _check_life(design: Design) -> None:
+    """A roller's bearing life needs its load rating; only a roller has one."""
+    fol, limit = design.follower, design.limits.roller_life
+    if fol.roller_bearing is not None and fol.roller_load_rating is None:
+        fail(("follower", "roller_bearing"), "only with follower.roller_load_rating (the "
+             "bearing's basic dynamic load rating C, from its catalogue)")
+    if limit is not None and fol.type != "roller":
+        fail(("limits", "roller_life"), f"only a roller has a bearing life (this follower is "
+             f"a {fol.type})")
+    if limit is not None and fol.roller_load_rating is None:
+        fail(("limits", "roller_life"), "needs follower.roller_load_rating (the bearing's basic "
+             "dynamic load rating C, from its catalogue)")
 
 
 #: Largest cam size per unit of export tolerance. An STL's float32 coordinates round by up to

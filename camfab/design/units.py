@@ -2,7 +2,8 @@
 
 A design value is a bare number in its default unit or a string with a unit (``"1.5 in"``,
 ``"24 N/mm"``, ``"600 rpm"``). Internally camfab works in millimetres and radians; the other
-quantities keep the unit their name states (``speed_rpm`` in rpm, spring ``rate`` in N/mm).
+quantities keep the unit their name states (``speed_rpm`` in rpm, spring ``rate`` in N/mm, a
+material's ``E`` and ``limits.contact_stress`` in MPa, ``limits.roller_life`` in hours).
 
 pint is imported only when a value carries a unit, so designs written in bare numbers load without
 paying for its import.
@@ -49,6 +50,10 @@ RATE = Kind("a spring rate", "N/mm", "N/mm", "[force]/[length]", "N/mm, N/m, lbf
             "1e9 N/mm")
 DAMPING = Kind("a damping coefficient", "N*s/m", "N*s/m", "[force]*[time]/[length]", "N*s/m",
                1e9, "1e9 N·s/m")
+STRESS = Kind("a stress", "MPa", "MPa", "[force]/[length]**2", "MPa, GPa, N/mm**2, psi, ksi",
+              1e9, "1e9 MPa")
+DURATION = Kind("a duration", "hour", "hour", "[time]", "h, hour, s, day, year", 1e12,
+                "1e12 h")
 
 #: A value with a unit: a plain decimal number, then the unit (``"1.5 in"``, ``"24 N/mm"``).
 _NUMBER_UNIT = re.compile(

@@ -84,7 +84,8 @@ def design_record(design: Design) -> dict[str, Any]:
 
 
 def follower_record(design: Design) -> dict[str, Any]:
-    """The follower: its type and motion, and every dimension (``_mm``, ``_deg``, ``_kg``)."""
+    """The follower: its type and motion, and every dimension (``_mm``, ``_deg``, ``_kg``,
+    ``_N_per_mm``, ``_N``)."""
     fol = design.follower
     out: dict[str, Any] = {"type": fol.type, "motion": fol.motion}
     for name in type(fol).model_fields:
@@ -92,7 +93,8 @@ def follower_record(design: Design) -> dict[str, Any]:
             continue
         value = getattr(fol, name)
         kind = _kind(type(fol), name)
-        suffix = {U.LENGTH: "_mm", U.ANGLE: "_deg", U.MASS: "_kg"}.get(kind, "")
+        suffix = {U.LENGTH: "_mm", U.ANGLE: "_deg", U.MASS: "_kg", U.RATE: "_N_per_mm",
+                  U.FORCE: "_N"}.get(kind, "")
         if kind is U.ANGLE and value is not None:
             value = math.degrees(value)
         out[f"{name}{suffix}"] = value

@@ -47,7 +47,7 @@ def angle_axis(*axes: Axes) -> None:
         ax.set_bins(y=4)
 
 
-def _segment_marks(ax: Axes, analysis: Analysis, labels: bool) -> None:
+def segment_marks(ax: Axes, analysis: Analysis, labels: bool) -> None:
     """Segment boundaries as vertical lines, with the laws written above the top plot where
     the segment is wide enough for its words (else its kind, else nothing)."""
     from camfab.export.chart import text_width
@@ -65,11 +65,11 @@ def _segment_marks(ax: Axes, analysis: Analysis, labels: bool) -> None:
                         va="bottom", fontsize=LEGEND_FONT, y_in_axes=True)
 
 
-def panel_stack(rows: int) -> tuple[Figure, list[Axes]]:
-    """The diagrams' figure: *rows* panels 1.45 in high, one under the other on a shared
-    cam-angle axis, 9 in wide."""
+def panel_stack(rows: int, name: str = "diagrams") -> tuple[Figure, list[Axes]]:
+    """A figure of *rows* panels 1.45 in high, one under the other on a shared cam-angle axis,
+    9 in wide (*name* prefixes its SVG ids: one per figure of a page)."""
     height = 1.45 * rows + 0.6
-    fig = Figure(9.0, height, "diagrams", left=0.11, right=0.72, top=1 - 0.3 / height,
+    fig = Figure(9.0, height, name, left=0.11, right=0.72, top=1 - 0.3 / height,
                  bottom=0.45 / height)
     return fig, fig.subplots(rows, sharex=True)
 
@@ -86,7 +86,7 @@ def diagrams(analysis: Analysis) -> str:
     if rows == 8:
         _dynamics_panels(analysis, axes[6], axes[7])
     for ax in axes:
-        _segment_marks(ax, analysis, labels=ax is axes[0])
+        segment_marks(ax, analysis, labels=ax is axes[0])
     axes[-1].set_xlabel("cam angle θ (deg)")
     angle_axis(*axes)
     add_cursor(fig, axes)

@@ -7,7 +7,9 @@ curve is straight. A drum cam gives the pressure angle at the groove's floor and
 curvature of its pitch curve developed at the mean radius. A linear cam adds ``cam_travel_mm``
 (the plate's travel, a stroke being 360° of cam angle) after the cam angle; a conjugate pair
 adds cam b's pressure angle and radii (``..._b_...``). Cam types whose geometry is not computed
-leave these columns empty.
+leave these columns empty. Where computed, the contact stress (``contact_stress_MPa``) and an
+elastic follower train's displacement and contact force (``dynamic_displacement_mm`` or
+``_deg``, ``dynamic_contact_force_N``) come last.
 """
 
 from __future__ import annotations
@@ -42,7 +44,33 @@ def motion_table(analysis: Analysis) -> tuple[list[str], np.ndarray]:
     for name, column in analysis.result.table_columns(theta, s):
         columns.append(name)
         values.append(column)
+    for name, column in at_speed_columns(analysis, theta):
+        columns.append(name)
+        values.append(column)
     return columns, np.column_stack(values)
+
+
+def at_speed_columns(analysis: Analysis, theta: np.ndarray) -> list[tuple[str, np.ndarray]]:
+    """The cam at its speed at the cam angles *theta* (rad), where computed: the contact
+    stress (MPa), and with an elastic follower train its displacement (mm, or deg of an
+    arm's swing) and its contact force along its motion (N)."""
+    from camfab.analysis.at_speed import sample_at
+
+    speed = analysis.at_speed
+    if speed is None:
+        return []
+    out = []
+    if speed.stress is not None:
+        out.append(("contact_stress_MPa", sample_at(speed.theta, speed.stress.stress, theta)))
+    shaken = speed.vibration
+    if shaken is not None:
+        units = analysis.units
+        error = sample_at(shaken.theta, shaken.error_m, theta) / shaken.trace_m
+        lift = analysis.program.evaluate(theta)[0] + error
+        out.append((f"dynamic_{units.displacement_column}",
+                    np.degrees(lift) if units.oscillating else lift))
+        out.append(("dynamic_contact_force_N", sample_at(shaken.theta, shaken.force_N, theta)))
+    return out
 
 
 def render_motion_csv(analysis: Analysis) -> bytes:

@@ -47,12 +47,14 @@ def _findings(analysis: Analysis) -> list[dict[str, Any]]:
     return rows
 
 
-def _numbers(report: dict[str, Any]) -> list[tuple[str, str]]:
-    """The geometry and dynamics keys of the JSON report, as labelled rows."""
+def _numbers(report: dict[str, Any], elsewhere: set[str]) -> list[tuple[str, str]]:
+    """The geometry and dynamics keys of the JSON report, as labelled rows, but for those the
+    page shows in sections of their own (*elsewhere*: the cam at its speed)."""
     rows = []
     for section in ("geometry", "dynamics"):
         for key, value in report[section].items():
-            if value is None or isinstance(value, (list, dict)) or key == "note":
+            if value is None or isinstance(value, (list, dict)) or key == "note" \
+                    or key in elsewhere:
                 continue
             rows.append((column_label(key), show(value)))
     return rows
@@ -120,7 +122,7 @@ def render_report_html(analysis: Analysis) -> bytes:
     """The report page as UTF-8 bytes."""
     from camfab.analysis.sizing_words import sized_words
     from camfab.export import figures
-    from camfab.export.report_json import report_data
+    from camfab.export.report_json import at_speed_dict, report_data
 
     report = report_data(analysis)
     errors, warnings = count(analysis.findings, "error"), count(analysis.findings, "warning")
@@ -141,16 +143,90 @@ def render_report_html(analysis: Analysis) -> bytes:
         sized=sized_words(design),
         drawing=figures.cam_drawing(analysis),
         drawing_title=result.drawing_title,
-        numbers=_numbers(report), segment_head=head, segment_rows=rows,
+        numbers=_numbers(report, set(at_speed_dict(analysis))), segment_head=head,
+        segment_rows=rows,
         key_head=key_head, key_rows=key_rows,
         changes=result.contact_changes(report),
         diagrams=figures.diagrams(analysis),
         dynamics=figures.has_dynamics(analysis),
+        stress=_stress_section(analysis, report["dynamics"]),
+        vibration=_vibration_section(analysis, report["dynamics"]),
         verification=_verification(report),
         animation=animation_data(analysis), units=design.units,
         inputs=_inputs(report["design"]),
         lift_table=_lift_rows(report["lift_table"]))
     return page.encode("utf-8")
+
+
+def _stress_section(analysis: Analysis, dynamics: dict[str, Any]) -> dict[str, Any]:
+    """The page's contact-stress section: its key numbers and figure, each roller's life, or
+    why there are none."""
+    from camfab.export.speed_figures import stress_figure
+
+    rows: list[tuple[str, str]] = []
+    if dynamics["contact_stress_max_MPa"] is not None:
+        xy = dynamics.get("contact_stress_max_at_xy_mm")
+        along = dynamics.get("contact_stress_max_at_mm")
+        rows += [("largest contact stress (MPa)", num(dynamics["contact_stress_max_MPa"])),
+                 ("at the cam angle (°)", num(dynamics["contact_stress_max_at_deg"])),
+                 ("on", dynamics["contact_stress_on"])]
+        if xy is not None:
+            rows.append(("at the point of the cam (mm)", f"({num(xy[0])}, {num(xy[1])})"))
+        if along is not None:
+            rows.append(("along the contact line (mm)", num(along)))
+        rows += [("the cam's radius of curvature there (mm)",
+                  num(dynamics["contact_stress_cam_radius_mm"])),
+                 ("contact", dynamics["contact"]),
+                 ("contact length (mm)", num(dynamics["contact_length_mm"])),
+                 ("effective modulus E* (MPa)", num(dynamics["effective_modulus_MPa"]))]
+        limit = analysis.design.limits.contact_stress
+        rows.append(("allowed (MPa)", "not checked (no limits.contact_stress)" if limit is None
+                     else num(limit)))
+    lives = [(f"{life['roller']}: L10 life (h)", num(life["hours"]))
+             for life in dynamics.get("roller_life_by_roller") or []]
+    lives += [(f"{life['roller']}: equivalent load (N), revolutions a turn",
+               f"{num(life['equivalent_load_N'])}, {num(life['revolutions_per_turn'])}")
+              for life in dynamics.get("roller_life_by_roller") or []]
+    notes = [note for note in (dynamics.get("contact_stress_note"),
+                               dynamics.get("roller_life_note")) if note]
+    return {"rows": rows, "lives": lives, "notes": notes, "figure": stress_figure(analysis)}
+
+
+def _vibration_section(analysis: Analysis, dynamics: dict[str, Any]) -> dict[str, Any]:
+    """The page's follower-train section: its key numbers, each dwell's residual vibration,
+    where a positive drive changes sides, and its figures; or why there are none."""
+    from camfab.export.speed_figures import spectrum_figure, vibration_figure
+
+    if dynamics["natural_frequency_Hz"] is None:
+        return {"rows": [], "dwells": [], "changes": [],
+                "notes": [dynamics.get("vibration_note") or ""], "figure": None,
+                "spectrum": None}
+    jump = dynamics["dynamic_jump_speed_rpm"]
+    searched = dynamics["dynamic_jump_searched_to_rpm"]
+    rows = [("natural frequency (Hz)", num(dynamics["natural_frequency_Hz"])),
+            ("over the cam's turning frequency", num(dynamics["frequency_ratio"])),
+            ("damping ratio ζ of the train", num(dynamics["damping_ratio"])),
+            ("largest dynamic error x − s (mm)", f"{num(dynamics['dynamic_error_max_mm'])} at "
+             f"{num(dynamics['dynamic_error_max_at_deg'])}°"),
+            ("largest residual vibration in a dwell, peak to peak (mm)",
+             num(dynamics["residual_vibration_mm"])),
+            ("least contact force (N)", f"{num(dynamics['dynamic_min_contact_force_N'])} at "
+             f"{num(dynamics['dynamic_min_contact_force_at_deg'])}°"),
+            ("largest contact force (N)", num(dynamics["dynamic_max_contact_force_N"]))]
+    if "flank_changes" in dynamics:  # a positive drive: the force's sign is the side
+        rows[-2:] = [("largest force pushing the follower along its motion (N)",
+                      num(dynamics["dynamic_max_contact_force_N"])),
+                     ("largest force pulling it back (N)",
+                      f"{num(-dynamics['dynamic_min_contact_force_N'])} at "
+                      f"{num(dynamics['dynamic_min_contact_force_at_deg'])}°")]
+    if searched is not None:
+        rows.append(("speed at which the follower first leaves the cam (rpm)",
+                     num(jump) if jump is not None else f"none up to {num(searched)}"))
+    dwells = [(num(d["start_deg"]), num(d["end_deg"]), num(d["peak_to_peak_mm"]))
+              for d in dynamics["residual_vibration_by_dwell"]]
+    changes = [(num(c["cam_angle_deg"]), c["onto"]) for c in dynamics.get("flank_changes", [])]
+    return {"rows": rows, "dwells": dwells, "changes": changes, "notes": [],
+            "figure": vibration_figure(analysis), "spectrum": spectrum_figure(analysis)}
 
 
 def animation_data(analysis: Analysis) -> dict[str, Any]:
@@ -208,8 +284,9 @@ _UNITS = (("_m_s3", "m/s³"), ("_m_s2", "m/s²"), ("_m_s", "m/s"), ("_rad_s3", "
           ("_rad_s2", "rad/s²"), ("_rad_s", "rad/s"), ("_mm_per_rad3", "mm/rad³"),
           ("_mm_per_rad2", "mm/rad²"), ("_mm_per_rad", "mm/rad"), ("_per_rad3", "/rad³"),
           ("_per_rad2", "/rad²"), ("_per_rad", "/rad"), ("_mm3", "mm³"), ("_mm2", "mm²"),
-          ("_mm", "mm"), ("_deg", "°"), ("_rpm", "rpm"), ("_N_m", "N·m"), ("_N", "N"),
-          ("_kg", "kg"))
+          ("_mm", "mm"), ("_deg", "°"), ("_rpm", "rpm"), ("_N_m", "N·m"),
+          ("_N_per_mm", "N/mm"), ("_N", "N"), ("_kg", "kg"), ("_MPa", "MPa"), ("_Hz", "Hz"),
+          ("_h", "h"))
 
 
 def column_label(key: str) -> str:

@@ -97,6 +97,11 @@ def lift_table(analysis: Analysis) -> dict[str, Any]:
 
 
 def _dynamics(analysis: Analysis) -> dict[str, Any]:
+    """The rigid model's dynamics, then the cam at its speed (:func:`at_speed_dict`)."""
+    return {**_rigid(analysis), **at_speed_dict(analysis)}
+
+
+def _rigid(analysis: Analysis) -> dict[str, Any]:
     dyn = analysis.dynamics
     if dyn is None:
         note = (analysis.result.dynamics_note(analysis)
@@ -116,6 +121,73 @@ def _dynamics(analysis: Analysis) -> dict[str, Any]:
         "required_spring_force_N": dyn.required_spring_force_N,
         "required_spring_force_at_deg": dyn.required_spring_force_at_deg,
     }
+
+
+def at_speed_dict(analysis: Analysis) -> dict[str, Any]:
+    """The contact stress, the elastic follower train and the roller's life (MPa, Hz, mm at
+    the trace point, N, rpm, hours), null where not computed, with a note saying why."""
+    speed = analysis.at_speed
+    stress = None if speed is None else speed.stress
+    shaken = None if speed is None else speed.vibration
+    life = None if speed is None else speed.life
+    out: dict[str, Any] = {
+        "contact_stress_max_MPa": None if stress is None else stress.max_MPa,
+        "contact_stress_max_at_deg": None if stress is None else stress.max_at_deg,
+    }
+    if stress is not None:
+        contact = stress.contact
+        side = stress.max_side
+        row = int(stress.row[stress.index])
+        out.update({
+            "contact_stress_on": None if side is None else side.name,
+            "contact_stress_max_at_mm": (None if side is None or side.rows is None
+                                         else float(side.rows[row])),
+            "contact_stress_max_at_xy_mm": (None if side is None or side.place is None
+                                            else [float(v) for v in side.place[stress.index]]),
+            "contact_stress_cam_radius_mm": stress.cam_radius_at(stress.index),
+            "contact": contact.shape,
+            "contact_length_mm": contact.length,
+            "effective_modulus_MPa": stress.modulus,
+        })
+    else:
+        out["contact_stress_note"] = None if speed is None else speed.stress_note
+    out.update({
+        "natural_frequency_Hz": None if shaken is None else shaken.natural_Hz,
+        "dynamic_error_max_mm": None if shaken is None else 1000.0 * shaken.max_error_m,
+        "residual_vibration_mm": (None if shaken is None or shaken.residual_m is None
+                                  else 1000.0 * shaken.residual_m),
+        "dynamic_min_contact_force_N": None if shaken is None else shaken.min_force_N,
+        "dynamic_jump_speed_rpm": None if shaken is None else shaken.jump_speed_rpm,
+    })
+    if shaken is not None:
+        out.update({
+            "frequency_ratio": shaken.frequency_ratio,
+            "damping_ratio": shaken.train.zeta,
+            "dynamic_error_max_at_deg": shaken.max_error_at_deg,
+            "residual_vibration_by_dwell": [
+                {"segment": d.segment, "start_deg": d.start_deg, "end_deg": d.end_deg,
+                 "peak_to_peak_mm": 1000.0 * d.peak_to_peak_m} for d in shaken.dwells],
+            "dynamic_min_contact_force_at_deg": shaken.min_force_at_deg,
+            "dynamic_max_contact_force_N": shaken.max_force_N,
+            "dynamic_jump_searched_to_rpm": (shaken.searched_to_rpm if shaken.held_by_spring
+                                             else None),
+        })
+        if not shaken.held_by_spring:
+            out["flank_changes"] = [{"cam_angle_deg": deg, "onto": "pushing" if onto > 0
+                                     else "pulling back"} for deg, onto in shaken.flank_changes]
+    else:
+        out["vibration_note"] = ("the follower train is rigid: give follower.stiffness (N/mm) "
+                                 "for its vibration")
+    out["roller_life_h"] = None if life is None else life.hours_min
+    if life is not None:
+        out["roller_life_by_roller"] = [
+            {"roller": name, "hours": hours, "equivalent_load_N": load,
+             "revolutions_per_turn": turns}
+            for name, hours, load, turns in zip(life.names, life.hours, life.load_N,
+                                                life.revolutions, strict=True)]
+    else:
+        out["roller_life_note"] = None if speed is None else speed.life_note
+    return out
 
 
 def _verification(analysis: Analysis) -> dict[str, Any]:

@@ -103,6 +103,29 @@ class Drum:
         """Signed pressure angle at radius *r* (rad): tan φ = s′/r."""
         return np.arctan2(ds, r)
 
+    def flank_curvature(self, ds: Array, dds: Array, r: Array | float, lower: bool,
+                        radius: float | None = None) -> Array:
+        """The sum of the principal curvatures (1/mm, convex positive as the cam's material
+        sees it) of the lower (*lower*) or upper flank of a roller of *radius* (default the
+        wall's) where its axis is at radius *r* (mm), with s′ (mm/rad) and s″ (mm/rad²).
+
+        The roller's axis sweeps the surface q(θ, r) = r·e_r(α) + (start + s)·ẑ, whose normal
+        is n = −(σr ẑ + s′ e_t)/W (W = √(r² + s′²)) and whose principal curvatures along n have
+        the sum H = −σ r s″/W³ and the product K = −s′²/W⁴; a flank is that surface moved
+        ±R along n (the lower one +σ: toward it the sum is H_f = σH = −r s″/W³, toward the upper
+        one r s″/W³), so its curvatures are κᵢ/(1 − Rκᵢ), whose sum is
+        (H_f − 2RK)/(1 − R H_f + R²K). Along the contact line the roller and the flank curve
+        alike, so this sum is the flank's curvature across it."""
+        big = self.roller if radius is None else radius
+        ds = np.asarray(ds, dtype=np.float64)
+        square = r * r + ds * ds
+        width = np.sqrt(square)
+        toward = -1.0 if lower else 1.0
+        mean = toward * r * np.asarray(dds, dtype=np.float64) / (square * width)
+        gauss = -ds * ds / (square * square)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return (mean - 2.0 * big * gauss) / (1.0 - big * mean + big * big * gauss)
+
     def developed_radius(self, ds: Array, dds: Array, r: float) -> Array:
         """Signed radius of curvature (mm) of the pitch curve developed at radius *r*,
         (r² + s′²)^{3/2} / (r s″); ±inf where s″ = 0."""

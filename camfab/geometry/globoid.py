@@ -149,6 +149,20 @@ def undercut_radii(globoid: Globoid, theta: Array, ell: Array, motion: Array,
     broadcast cam angles *theta* and distances *ell* (inf where none folds): the smallest
     positive root of J(r) = J₀ + J₁r + J₂r² over both flanks, the coefficients from the exact
     axis point and normal (central differences in θ, *step* rad, and in ℓ)."""
+    j0, j1, j2 = flank_coefficients(globoid, theta, ell, motion, motion_ahead, motion_behind,
+                                    step)
+    return np.minimum(_smallest_positive_root(j2, j1, j0), _smallest_positive_root(j2, -j1, j0))
+
+
+def flank_coefficients(globoid: Globoid, theta: Array, ell: Array, motion: Array,
+                       motion_ahead: Array, motion_behind: Array,
+                       step: float) -> tuple[Array, Array, Array]:
+    """J₀, J₁, J₂ of the flanks' regularity J(r) = J₀ + sJ₁r + J₂r² (s the side) at the
+    broadcast cam angles *theta* and distances *ell*: J = ((q_ℓ + s r n_ℓ) × (q_θ + s r n_θ))·n
+    from the exact axis point q and normal n, differentiated centrally in θ (*step* rad, the
+    motion given there) and in ℓ. J₀ = |a × v| > 0. The flank on side s is the axis surface
+    moved s·r along n, so J(r)/J₀ = (1 − r κ₁)(1 − r κ₂) in the axis surface's principal
+    curvatures toward that side."""
     g = globoid
     theta = np.asarray(theta, dtype=np.float64)
 
@@ -165,11 +179,24 @@ def undercut_radii(globoid: Globoid, theta: Array, ell: Array, motion: Array,
     qe0, ne0 = frames(motion, theta, ell - h)
     q_t, n_t = (qa - qb) / (2 * step), (na - nb) / (2 * step)
     q_l, n_l = (qe1 - qe0) / (2 * h), (ne1 - ne0) / (2 * h)
-    # J(r) = ((q_l + s r n_l) × (q_t + s r n_t))·n0, s the side: J₀ = |a × v| > 0
     j0 = np.einsum("...i,...i->...", np.cross(q_l, q_t), n0)
     j1 = np.einsum("...i,...i->...", np.cross(n_l, q_t) + np.cross(q_l, n_t), n0)
     j2 = np.einsum("...i,...i->...", np.cross(n_l, n_t), n0)
-    return np.minimum(_smallest_positive_root(j2, j1, j0), _smallest_positive_root(j2, -j1, j0))
+    return j0, j1, j2
+
+
+def flank_curvature(j0: Array, j1: Array, j2: Array, side: Array | int,
+                    radius: float) -> Array:
+    """The sum of the principal curvatures (1/mm, convex positive as the cam's material sees
+    it) of the flank on *side* of a roller of *radius* (mm), from its regularity's coefficients
+    (:func:`flank_coefficients`): the flank's curvatures are the axis surface's κᵢ/(1 − rκᵢ),
+    whose sum is −J′(r)/J(r). Along the contact line the roller and the flank curve alike, so
+    this sum is the flank's curvature across the line."""
+    side = np.asarray(side, dtype=np.float64)
+    value = j0 + side * j1 * radius + j2 * radius * radius
+    slope = side * j1 + 2.0 * j2 * radius
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return -slope / value
 
 
 def _smallest_positive_root(a: Array, b: Array, c: Array) -> Array:

@@ -13,16 +13,19 @@ from camfab.analysis.record import TABLE_COLUMNS, Analysis, CamResult, terse
 
 if TYPE_CHECKING:
     from camfab.analysis.cam_checks import CamNumbers
+    from camfab.analysis.contact import Contact, ContactSide
     from camfab.analysis.findings import Finding
     from camfab.analysis.kinematics import MotionUnits, SegmentStats
     from camfab.analysis.sizing import Grid, SizeProblem
     from camfab.analysis.verification import Verification
     from camfab.arrays import Array
     from camfab.curves.follower import FollowerGeometry
+    from camfab.curves.plane import CurvePoints
     from camfab.curves.profile import Profile
     from camfab.design import Design
     from camfab.export.part import Drawing, Part, Solid
     from camfab.export.serialise import PartFiles
+    from camfab.geometry.disc import DiscCam
     from camfab.geometry.disc_geometry import DiscGeometry, LiftCheck
     from camfab.geometry.plate import Contours, Plate
     from camfab.motion.program import MotionProgram
@@ -92,6 +95,10 @@ class PlateResult(CamResult):
                 f"{terse(numbers.pitch_min_convex.value)} mm; {profile}; the follower run over "
                 f"it strays {geom.lift.max_mm:.2g} mm from the design"]
 
+    def contact(self, analysis: Analysis) -> Contact:
+        """The profile under the follower."""
+        return plate_contact(analysis.design, self.geometry)
+
     def pressure_panels(self, analysis: Analysis, top: Any, bottom: Any) -> None:
         from camfab.kinds.plate_figures import plate_pressure_panels
 
@@ -112,6 +119,59 @@ class PlateResult(CamResult):
     def draw_other_side(self, ax: Any, analysis: Analysis) -> None:
         """What holds the follower on its other side, in the report's drawing (nothing: a
         spring)."""
+
+
+def plate_side(cam: DiscCam, working: CurvePoints, pressure_angle: Array,
+               face_contact: Array | None, name: str, carries: int = 1, roller: int = 0,
+               always: bool = True, sign: float = 1.0) -> ContactSide:
+    """A curve of a plate (*working*: its exact points in the cam frame, mm) as a side carrying
+    the follower (:class:`ContactSide`): its curvature as the cam's material sees it (*sign*
+    over its radius of curvature: −1 for a wall whose material lies on the side the radius
+    is measured away from), the normal force per newton along the follower's motion — 1/cos φ
+    of the pressure angle *pressure_angle* (rad), or for an oscillating flat face the arm's
+    length over the contact's distance along the face from the pivot's foot, *face_contact*
+    (mm: the moment about the pivot) — and a roller's rolling speed over it (mm/rad)."""
+    import numpy as np
+
+    from camfab.analysis.contact import ContactSide
+
+    fol = cam.follower
+    if fol.flat and fol.oscillating:
+        assert face_contact is not None
+        with np.errstate(divide="ignore"):
+            normal = fol.arm_length / np.abs(face_contact)
+    else:
+        normal = 1.0 / np.cos(pressure_angle)
+    with np.errstate(divide="ignore"):
+        curvature = sign / working.radius
+    rolling = working.speed if fol.contact == "roller" else None
+    return ContactSide(name, carries, curvature, normal, rolling, roller, always,
+                       place=working.xy)
+
+
+def plate_contact(design: Design, geom: DiscGeometry,
+                  sides: tuple[ContactSide, ...] | None = None,
+                  rollers: tuple[str, ...] = ("the roller",),
+                  extent: tuple[float | None, str] | None = None) -> Contact:
+    """How the follower of a plate cam touches it over the analysis grid: the profile (or
+    *sides*), a roller's or a flat face's line over the plate's thickness (or *extent*: the
+    cam's extent across the motion and its key), a mushroom's point, a knife's none."""
+    from camfab.analysis.contact import KNIFE_NOTE, Contact, contact_length
+
+    fol, dense = design.follower, geom.dense
+    theta = dense.theta
+    if fol.type == "knife":
+        return Contact(theta, "none", note=KNIFE_NOTE)
+    if sides is None:
+        sides = (plate_side(geom.cam, dense.working, dense.pressure_angle, dense.face_contact,
+                            "the profile"),)
+    if fol.type == "mushroom":
+        assert fol.face_radius is not None
+        return Contact(theta, "point", 1.0 / fol.face_radius, None, sides)
+    length, note = contact_length(design, *(extent or (design.cam.thickness, "cam.thickness")))
+    radius = fol.roller_radius if fol.type == "roller" else None
+    return Contact(theta, "line", 0.0 if radius is None else 1.0 / radius, length, sides,
+                   radius, rollers, note)
 
 
 def analyse_plate(design: Design, program: MotionProgram, units: MotionUnits,

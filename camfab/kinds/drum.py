@@ -17,6 +17,7 @@ from camfab.analysis.verification import Verification
 from camfab.kinds.disc import no_checks
 
 if TYPE_CHECKING:
+    from camfab.analysis.contact import Contact
     from camfab.analysis.drum_checks import DrumNumbers
     from camfab.analysis.findings import Finding
     from camfab.analysis.kinematics import MotionUnits, SegmentStats
@@ -41,6 +42,7 @@ class DrumResult(CamResult):
     drum: DrumDense
     numbers: DrumNumbers
     drawing_title = "The groove developed, the roller running in it"
+    two_sided = True
 
     def kind_name(self, design: Design) -> str:
         return "drum cam"
@@ -83,6 +85,30 @@ class DrumResult(CamResult):
                 f"lift; pressure angle up to {terse(numbers.root_pressure.value)}° at the floor; "
                 f"developed groove's smallest radius of curvature "
                 f"{terse(numbers.min_developed_radius.value)} mm"]
+
+    def contact(self, analysis: Analysis) -> Contact:
+        """The roller on the groove's lower flank where it is pushed along its motion (+Z), on
+        the upper flank where it is pulled back, in line contact from the floor to the
+        surface, each flank's curvature across the contact exact
+        (:meth:`~camfab.geometry.drum.Drum.flank_curvature`) at the radii of the analysis;
+        the normal force is the force along the motion over the mean of cos φ along the line,
+        and the roller rolls along the groove at its pitch radius."""
+        from camfab.analysis.contact import Contact, ContactSide, contact_length
+
+        dense, design = self.drum, analysis.design
+        d = dense.drum
+        radii = dense.radii[:, None]
+        lower, upper = (d.flank_curvature(dense.motion[1], dense.motion[2], radii, side)
+                        for side in (True, False))
+        normal = 1.0 / np.mean(np.cos(dense.pressure_angle), axis=0)
+        rolling = np.hypot(d.pitch, dense.motion[1])
+        sides = tuple(ContactSide(name, carries, curvature, normal, rolling, always=False,
+                                  rows=dense.radii, rows_from="from the drum's axis")
+                      for name, carries, curvature in (("the lower flank", 1, lower),
+                                                       ("the upper flank", -1, upper)))
+        length, note = contact_length(design, d.depth, "cam.groove_depth")
+        radius = design.follower.roller_radius or 0.0
+        return Contact(dense.theta, "line", 1.0 / radius, length, sides, radius, note=note)
 
     def pressure_panels(self, analysis: Analysis, top: Any, bottom: Any) -> None:
         """The pressure angle and the developed radius of curvature at the groove's floor and

@@ -19,6 +19,7 @@ from camfab.analysis.record import TABLE_COLUMNS, Analysis, CamResult, terse
 from camfab.analysis.verification import Verification
 
 if TYPE_CHECKING:
+    from camfab.analysis.contact import Contact
     from camfab.analysis.findings import Finding
     from camfab.analysis.globoid_checks import GloboidDense, GloboidNumbers
     from camfab.analysis.kinematics import MotionUnits, SegmentStats
@@ -45,6 +46,7 @@ class GloboidResult(CamResult):
     globoid: GloboidDense
     numbers: GloboidNumbers
     drawing_title = "The cam in section through its axis, the arm swinging"
+    two_sided = True
 
     def kind_name(self, design: Design) -> str:
         return f"globoidal cam ({design.cam.globoid})"
@@ -86,6 +88,42 @@ class GloboidResult(CamResult):
                                           motion[1][None, :])).max(axis=0)
         empty = np.full(theta.size, np.nan)
         return list(zip(TABLE_COLUMNS, (phi, empty, empty), strict=True))
+
+    def contact(self, analysis: Analysis) -> Contact:
+        """The roller on the flank behind it where it is pushed along its swing, on the other
+        where it is held back, in line contact along the roller inside the groove. Each
+        flank's curvature across the contact is the sum of its principal curvatures, from the
+        regularity of the flanks (:func:`~camfab.geometry.globoid.flank_curvature`); the
+        normal force balances the arm's moment, F·L = F_n·mean(ℓ cos α) with the load spread
+        evenly along the line; the roller rolls over the groove as its middle moves against
+        the cam."""
+        from camfab.analysis.contact import Contact, ContactSide
+        from camfab.analysis.globoid_checks import UNDERCUT_STEP
+        from camfab.geometry.globoid import flank_coefficients, flank_curvature
+
+        dense, design, program = self.globoid, analysis.design, analysis.program
+        g = dense.blank.follower
+        theta, motion, ells = dense.theta, dense.motion, dense.ells
+        h = UNDERCUT_STEP
+        coefficients = flank_coefficients(g, theta[None, :], ells[:, None], motion[:, None, :],
+                                          program.evaluate(theta + h)[:, None, :],
+                                          program.evaluate(theta - h)[:, None, :], h)
+        psi = g.rest + motion[0]
+        reach = g.centre - ells[:, None] * np.cos(psi)[None, :]  # D = C − ℓ cos ψ
+        behind = -np.sign(g.sigma * reach)  # the side s with s·n against the swing
+        lever = np.mean(ells[:, None] * np.cos(dense.pressure_angle), axis=0)
+        normal = g.arm / lever
+        middle = 0.5 * (ells[0] + ells[-1])
+        rolling = np.hypot(g.centre - middle * np.cos(psi), motion[1] * middle)
+        sides = tuple(ContactSide(name, carries, flank_curvature(*coefficients, carries * behind,
+                                                                 g.radius),
+                                  normal, rolling, always=False, rows=ells,
+                                  rows_from="from the pivot")
+                      for name, carries in (("the flank behind the roller", 1),
+                                            ("the flank ahead of it", -1)))
+        radius = design.follower.roller_radius or 0.0
+        return Contact(theta, "line", 1.0 / radius, abs(float(ells[-1] - ells[0])), sides,
+                       radius)
 
     def summary(self, analysis: Analysis) -> list[str]:
         blank, numbers = self.globoid.blank, self.numbers

@@ -27,6 +27,7 @@ from camfab.analysis.verification import Verification
 from camfab.kinds.disc import PlateResult, analyse_plate
 
 if TYPE_CHECKING:
+    from camfab.analysis.contact import Contact
     from camfab.analysis.findings import Finding
     from camfab.analysis.kinematics import MotionUnits, SegmentStats
     from camfab.analysis.record import Analysis
@@ -264,6 +265,7 @@ class GrooveResult(PlateResult):
 
     groove: GrooveWalls
     refine_for_inspection = False
+    two_sided = True
 
     def report_geometry(self, analysis: Analysis) -> dict[str, Any]:
         return {**super().report_geometry(analysis), **self.groove.report_geometry()}
@@ -271,6 +273,22 @@ class GrooveResult(PlateResult):
     def dynamics_note(self, analysis: Analysis) -> str:
         return ("a groove cam drives its follower both ways without a spring: the forces on its "
                 "walls are in geometry (max_inner_wall_force_N, ...)")
+
+    def contact(self, analysis: Analysis) -> Contact:
+        """The roller on the inner wall where it is pushed along its motion, on the outer wall
+        where it is pulled back; each wall's curvature as its material sees it (the outer
+        wall's, −1/(ρ_p + R), concave where the pitch curve is convex), over the groove's
+        depth."""
+        from camfab.kinds.disc import plate_contact, plate_side
+
+        dense, walls = self.geometry.dense, self.groove
+        cam = self.geometry.cam
+        sides = (plate_side(cam, dense.working, dense.pressure_angle, None, "the inner wall",
+                            always=False),
+                 plate_side(cam, walls.outer_dense, dense.pressure_angle, None,
+                            "the outer wall", -1, always=False, sign=-1.0))
+        return plate_contact(analysis.design, self.geometry, sides,
+                             extent=(walls.depth, "cam.groove_depth"))
 
     def summary(self, analysis: Analysis) -> list[str]:
         walls = self.groove

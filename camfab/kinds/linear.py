@@ -23,6 +23,7 @@ from camfab.kinds.disc import no_checks
 from camfab.kinds.readback import against_cut, read_part
 
 if TYPE_CHECKING:
+    from camfab.analysis.contact import Contact
     from camfab.analysis.findings import Finding
     from camfab.analysis.kinematics import MotionUnits, SegmentStats
     from camfab.analysis.linear_checks import LinearNumbers
@@ -192,6 +193,23 @@ class LinearResult(CamResult):
                 f"curve's smallest convex radius {terse(self.numbers.pitch_min_convex.value)} mm; "
                 f"outline of {len(linear.outline.vertices)} lines and arcs; the follower run over "
                 f"it strays {linear.lift.max_mm:.2g} mm from the design"]
+
+    def contact(self, analysis: Analysis) -> Contact:
+        """The plate's edge under the follower: a roller's line over the plate's thickness, a
+        knife's none."""
+        from camfab.analysis.contact import KNIFE_NOTE, Contact, ContactSide, contact_length
+
+        design, dense = analysis.design, self.linear.dense
+        if design.follower.type == "knife":
+            return Contact(dense.theta, "none", note=KNIFE_NOTE)
+        working = dense.working
+        with np.errstate(divide="ignore"):
+            curvature = 1.0 / working.radius
+        side = ContactSide("the plate's edge", 1, curvature, 1.0 / np.cos(dense.pressure_angle),
+                           working.speed, place=working.xy, frame="the plate's frame")
+        length, note = contact_length(design, design.cam.thickness, "cam.thickness")
+        radius = design.follower.roller_radius or 0.0
+        return Contact(dense.theta, "line", 1.0 / radius, length, (side,), radius, note=note)
 
     def pressure_panels(self, analysis: Analysis, top: Any, bottom: Any) -> None:
         _pressure_panels(self.linear, top, bottom)

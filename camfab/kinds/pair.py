@@ -27,6 +27,7 @@ from camfab.kinds.readback import against_cut, read_back, verify_plate
 from camfab.motion.program import cycle_angles
 
 if TYPE_CHECKING:
+    from camfab.analysis.contact import Contact
     from camfab.analysis.findings import Finding
     from camfab.analysis.kinematics import MotionUnits, SegmentStats
     from camfab.analysis.partner_checks import Partner
@@ -131,9 +132,44 @@ class PairResult(PlateResult):
 
     partner: Partner
     refine_for_inspection = False
+    two_sided = True
 
     def report_geometry(self, analysis: Analysis) -> dict[str, Any]:
         return {**super().report_geometry(analysis), **self.partner.report_geometry()}
+
+    def contact(self, analysis: Analysis) -> Contact:
+        """Each side on its own cam: a conjugate pair's cam a and cam b, each under its own
+        roller; a constant-breadth cam's outline under the yoke's one face (or roller) and,
+        half a turn on, under the other. Each roller rides its cam loaded or not."""
+        import numpy as np
+
+        from camfab.kinds.disc import plate_contact, plate_side
+
+        geom, partner = self.geometry, self.partner
+        dense, holder = geom.dense, partner.holder
+        if partner.geometry is not None:
+            names, rollers = ("cam a", "cam b"), ("roller a", "roller b")
+        else:
+            names = (f"the profile under the {holder.outward}",
+                     f"the profile under the {holder.inward}")
+            rollers = (f"the {holder.outward}", f"the {holder.inward}")
+        first = plate_side(geom.cam, dense.working, dense.pressure_angle, dense.face_contact,
+                           names[0])
+        if partner.geometry is not None:  # cam b
+            other = partner.geometry.dense
+            second = plate_side(partner.geometry.cam, other.working, other.pressure_angle,
+                                other.face_contact, names[1], -1, roller=1)
+        else:  # the same outline half a turn on
+            cam = geom.cam
+            theta = dense.theta + np.pi
+            motion = analysis.program.evaluate(theta)
+            lines = cam.face_lines(theta, motion) if cam.follower.flat else None
+            second = plate_side(cam, cam.working(theta, motion, lines),
+                                cam.pressure_angle(theta, motion, lines),
+                                None if lines is None else cam.face_contact(theta, motion,
+                                                                             lines),
+                                names[1], -1, roller=1)
+        return plate_contact(analysis.design, geom, (first, second), rollers)
 
     def dynamics_note(self, analysis: Analysis) -> str:
         return (f"a {analysis.design.cam.type} cam drives its follower both ways without a "

@@ -17,9 +17,10 @@ if TYPE_CHECKING:
 
 #: The key numbers of a row, by column name, in order (units in the names; the motion's are SI:
 #: m/s, m/s², m/s³ for a translating follower, rad/s, rad/s², rad/s³ for an oscillating one,
-#: as ``motion_units`` says). A drum's pressure angle is its worst (at the groove's root), its
-#: curvature the developed groove's, its undercut the groove check's (a wall that folds), as
-#: for a groove cam.
+#: as ``motion_units`` says; the cam at its speed last: its contact stress, the vibration left
+#: in its dwells by an elastic follower train, its roller's bearing life). A drum's pressure
+#: angle is its worst (at the groove's root), its curvature the developed groove's, its undercut
+#: the groove check's (a wall that folds), as for a groove cam.
 NUMBERS = (
     "pressure_angle_max_deg",
     "pressure_angle_max_at_deg",
@@ -33,6 +34,9 @@ NUMBERS = (
     "jump_speed_rpm",
     "max_contact_force_N",
     "min_contact_force_N",
+    "contact_stress_max_MPa",
+    "residual_vibration_mm",
+    "roller_life_h",
 )
 #: The columns ``--size`` adds: the least base radius (a drum's radius) meeting the limits.
 SIZE_NUMBERS = ("least_size_mm",)
@@ -139,7 +143,20 @@ def key_numbers(analysis: Analysis) -> tuple[Any, ...]:
         None if dyn is None else _number(dyn.jump_speed_rpm),
         None if dyn is None else _number(dyn.max_force_N),
         None if dyn is None else _number(dyn.min_force_N),
+        *_at_speed_numbers(analysis),
     )
+
+
+def _at_speed_numbers(analysis: Analysis) -> tuple[float | None, float | None, float | None]:
+    """The largest contact stress (MPa), the largest residual vibration in a dwell (mm
+    peak to peak) and the roller's least L10 life (h), None where not computed."""
+    speed = analysis.at_speed
+    if speed is None:
+        return None, None, None
+    shaken = speed.vibration
+    residual = None if shaken is None or shaken.residual_m is None else 1000.0 * shaken.residual_m
+    return (None if speed.stress is None else _number(speed.stress.max_MPa), _number(residual),
+            None if speed.life is None else _number(speed.life.hours_min))
 
 
 def least_size(design: Any) -> float | None:
