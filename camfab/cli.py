@@ -303,7 +303,8 @@ def sweep(design: str, vary: tuple[str, ...], variants: Path | None, out_dir: Pa
           progress: bool | None) -> None:
     """Sweep DESIGN over varied keys: validate and analyse every variant (no files), one row of
     key numbers each (status OK, FAIL or INVALID; pressure angle, curvature, undercut, motion
-    maxima, face width, jump speed, contact force) in a table (NAME-sweep.parquet or .csv) and a
+    maxima, face width, jump speed, contact force; contact stress, residual vibration, the
+    elastic follower's jump speed, roller life) in a table (NAME-sweep.parquet or .csv) and a
     summary page with the feasible region (NAME-sweep.html). Exit 0 when the sweep ran, 2 for
     bad options, 1 when a best variant's build fails."""
     from camfab.sweep.run import SweepOptions

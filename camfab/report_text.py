@@ -84,7 +84,8 @@ def _at_speed_words(analysis: Analysis) -> str | None:
     if shaken is not None:
         words = (f"follower train at {_num(shaken.natural_Hz)} Hz "
                  f"({_num(shaken.frequency_ratio)}× the cam's), dynamic error up to "
-                 f"{_num(1000.0 * shaken.max_error_m)} mm")
+                 f"{_num(1000.0 * shaken.max_error_m)} mm (its vibration about the train's "
+                 f"compression up to {_num(1000.0 * shaken.max_ringing_m)} mm)")
         if shaken.residual_m is not None:
             words += f", {_num(1000.0 * shaken.residual_m)} mm left ringing in a dwell"
         parts.append(words)

@@ -136,16 +136,32 @@ def test_without_the_numbers_each_key_is_null_and_says_why() -> None:
     assert "contact_stress_MPa" not in files["seed-10-4-motion.csv"].decode().splitlines()[0]
 
 
-def test_a_knife_edge_has_no_stress_and_its_limit_does_not_apply() -> None:
+def test_a_knife_edge_has_no_stress() -> None:
+    """Its contact has no area: no stress is computed, and a limit on it is refused."""
     text = (DESIGNS / "demo-oscillating-knife.yaml").read_text()
     text = text.replace("  type: knife", "  type: knife\n  mass: 0.3", 1)
-    text += "\nspring: {rate: 5, preload: 50}\nlimits: {contact_stress: 900 MPa}\n"
+    text += "\nspring: {rate: 5, preload: 50}\n"
     if "speed_rpm" not in text:
         text = text.replace("  type: disc", "  type: disc\n  speed_rpm: 300", 1)
-    analysis = analyse(design_from_text(text))
-    finding = next(f for f in analysis.findings if f.id == "contact_stress")
-    assert not finding.applicable and "knife" in finding.message
-    assert analysis.at_speed.stress is None  # type: ignore[union-attr]
+    speed = analyse(design_from_text(text)).at_speed
+    assert speed is not None and speed.force_N is not None and speed.stress is None
+    assert "knife" in (speed.stress_note or "")
+    with pytest.raises(Exception, match=r"limits.contact_stress: a knife edge's contact has no"):
+        design_from_text(text + "limits: {contact_stress: 900 MPa}\n")
+
+
+@pytest.mark.parametrize(("change", "words"), [
+    ("  thickness: 14\n", "needs the contact's length: give cam.thickness or "
+                          "follower.roller_length"),
+    ("spring:\n  rate: 25                     # N/mm\n  preload: 250                 # N at "
+     "zero lift\n", "give the spring that holds it on the cam"),
+])
+def test_a_limit_at_speed_that_cannot_be_checked_is_refused(change: str, words: str) -> None:
+    text = VALVE.read_text().replace("  roller_length: 12            # the line of contact: "
+                                     "the shorter of this and the thickness\n", "")
+    assert change in text
+    with pytest.raises(Exception, match=f"limits.contact_stress: .*{re.escape(words)}"):
+        design_from_text(text.replace(change, ""))
 
 
 def test_the_contact_stress_fails_over_its_limit_with_where_and_the_size_that_passes() -> None:
@@ -155,7 +171,7 @@ def test_the_contact_stress_fails_over_its_limit_with_where_and_the_size_that_pa
     finding = next(f for f in analysis.findings if f.id == "contact_stress")
     assert not finding.ok and analysis.exit_code == 1
     assert finding.ranges_deg and finding.value > 420
-    assert "cam's radius of curvature" in finding.message
+    assert "where the cam is convex, of radius of curvature" in finding.message
     assert "base radius of" in finding.message  # the sizing's advice
 
 

@@ -14,7 +14,6 @@ Forces in N, stresses in MPa, lengths in mm, lives in hours.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
@@ -130,11 +129,12 @@ def at_speed(analysis: Analysis) -> Analysis:
     design = analysis.design
     held_by_spring = design.spring is not None
     _, theta, motion = analysis.program.segment_grid(STEP)
-    missing = force_note(design, held_by_spring, analysis.result.two_sided)
+    missing = force_note(design, held_by_spring, design.cam.spec.two_sided)
     force = shaken = contact = None
     if missing is None:
         contact = analysis.result.contact(analysis)
-        shaken = vibration(design, analysis.program, held_by_spring, STEP)
+        shaken = vibration(design, analysis.program, held_by_spring, design.cam.spec.two_sided,
+                           STEP)
         force = (shaken.force_N if shaken is not None
                  else drive_force(design, theta, motion, held_by_spring))
     stress = life = None
@@ -161,7 +161,7 @@ def at_speed(analysis: Analysis) -> Analysis:
 def _findings(analysis: Analysis, record: AtSpeed) -> list[Finding]:
     out = []
     shaken = record.vibration
-    if shaken is not None and record.held_by_spring:
+    if shaken is not None and shaken.one_sided:
         out.append(dynamic_jump_finding(analysis.design.cam.speed_rpm or 0.0, shaken))
     limits = analysis.design.limits
     if limits.contact_stress is not None:
@@ -175,9 +175,8 @@ def dynamic_jump_finding(speed: float, shaken: Vibration) -> Finding:
     """The elastic follower's contact force against zero at the design *speed* (rpm): where it
     falls below, the follower leaves the cam although the rigid model may say it holds."""
     jump = shaken.jump_speed_rpm
-    first = (f"it first leaves the cam at {jump:.5g} rpm" if jump is not None else
-             f"it does not leave the cam up to {shaken.searched_to_rpm:.5g} rpm")
     least, at = shaken.min_force_N, shaken.min_force_at_deg
+    first = _first_words(shaken, speed, least >= 0.0)
     train = (f"the elastic follower train (natural frequency {shaken.natural_Hz:.4g} Hz, "
              f"{shaken.frequency_ratio:.4g} times the cam's)")
     if least >= 0.0:
@@ -194,6 +193,21 @@ def dynamic_jump_finding(speed: float, shaken: Vibration) -> Finding:
                    "rpm", lost)
 
 
+def _first_words(shaken: Vibration, speed: float, holds: bool) -> str:
+    """Where the speed search found the follower first leaving the cam, in words, beside the
+    verdict at the design *speed* (rpm; *holds*: it keeps contact there)."""
+    jump = shaken.jump_speed_rpm
+    if jump is None:
+        return f"it does not leave the cam up to {shaken.searched_to_rpm:.5g} rpm"
+    if shaken.jump_at_every_speed:
+        return (f"it leaves the cam at every speed searched, from {jump:.5g} rpm (nothing "
+                "holds it in a dwell: more preload)")
+    if holds and jump < speed:
+        return (f"it leaves the cam at lower speeds, first at {jump:.5g} rpm: a resonance the "
+                "cam runs through on its way to speed")
+    return f"it first leaves the cam at {jump:.5g} rpm"
+
+
 def stress_finding(record: AtSpeed, limit: float) -> Finding:
     """The largest Hertz stress over the cycle against ``limits.contact_stress`` (MPa)."""
     stress = record.stress
@@ -202,10 +216,7 @@ def stress_finding(record: AtSpeed, limit: float) -> Finding:
                        f"not computed: {record.stress_note}", None, limit, "MPa",
                        applicable=False)
     value, at = stress.max_MPa, stress.max_at_deg
-    rho = stress.cam_radius_at(stress.index)
-    shape = "straight" if math.isinf(rho) else f"{fmt(rho)} mm"
-    detail = (f"at {fmt(at)}° on {stress.where_words()}, where the cam's radius of curvature "
-              f"is {shape}")
+    detail = f"at {fmt(at)}° on {stress.where_words()}, where {stress.shape_words(stress.index)}"
     if value <= limit:
         return Finding("contact_stress", True, "error",
                        f"largest contact stress {fmt(value)} MPa {detail}, within the allowed "

@@ -30,8 +30,8 @@ from camfab.arrays import Array, Index
 from camfab.design import Design
 
 #: Why a knife edge gets no contact stress.
-KNIFE_NOTE = ("a knife edge carries no load worth computing: its contact has no area, so its "
-              "stress has no bound; camfab gives it none")
+KNIFE_NOTE = ("a knife edge's contact has no area, so Hertz gives its stress no finite value: "
+              "camfab reports none")
 
 
 @dataclass(frozen=True)
@@ -101,18 +101,17 @@ class Contact:
         return self.shape != "none" and self.note is None
 
 
-def contact_length(design: Design, extent: float | None, what: str) -> tuple[float | None,
-                                                                               str | None]:
-    """The length of a line contact (mm): the overlap of the cam's *extent* across its motion
-    (a plate's thickness, a groove's depth; *what* names it) and a roller's length; with
+def contact_length(design: Design) -> tuple[float | None, str | None]:
+    """The length of a line contact (mm): the overlap of the cam's extent across the
+    follower's motion (a plate's thickness, a groove's depth: its type's
+    :attr:`~camfab.design.cam_types.CamTypeSpec.contact_extent`) and a roller's length; with
     neither, None and the reason."""
-    fol = design.follower
-    lengths = [v for v in (extent, fol.roller_length if fol.type == "roller" else None)
-               if v is not None]
-    if not lengths:
-        return None, (f"the contact's length is not known: give {what}"
-                      + (" or follower.roller_length" if fol.type == "roller" else ""))
-    return min(lengths), None
+    length = design.contact_length
+    if length is None:
+        roller = " or follower.roller_length" if design.follower.type == "roller" else ""
+        return None, (f"the contact's length is not known: give "
+                      f"cam.{design.cam.spec.contact_extent}{roller}")
+    return length, None
 
 
 @dataclass(frozen=True)
@@ -131,7 +130,7 @@ class ContactStress:
     @property
     def index(self) -> int:
         """The grid index of the largest stress."""
-        return int(np.nanargmax(self.stress))
+        return int(np.argmax(self.stress))
 
     @property
     def max_MPa(self) -> float:
@@ -147,12 +146,33 @@ class ContactStress:
         return self.contact.sides[side] if side >= 0 else None
 
     def cam_radius_at(self, index: int) -> float:
-        """The cam's radius of curvature at the contact at grid *index* (mm; ±inf straight)."""
+        """The cam's radius of curvature at the contact at grid *index* (mm, convex positive;
+        ±inf straight): a plate's profile's, or the inverse of a flank's curvature across the
+        contact line (the sum of its principal curvatures)."""
         side = self.contact.sides[max(int(self.side[index]), 0)]
         curvature = side.curvature
         value = float(curvature[int(self.row[index]), index] if curvature.ndim == 2
                       else curvature[index])
         return math.inf if value == 0.0 else 1.0 / value
+
+    def shape_at(self, index: int) -> str:
+        """The cam's shape at the contact at grid *index*: ``convex``, ``concave`` or
+        ``straight`` as its material sees it."""
+        rho = self.cam_radius_at(index)
+        return "straight" if math.isinf(rho) else "convex" if rho > 0 else "concave"
+
+    def shape_words(self, index: int) -> str:
+        """The cam at the contact at grid *index* in words: a plate's profile, convex or
+        concave with its radius of curvature, or straight; a flank (a surface) by how it
+        curves across the contact line."""
+        rho, shape = self.cam_radius_at(index), self.shape_at(index)
+        side = self.contact.sides[max(int(self.side[index]), 0)]
+        if side.rows is None:
+            return ("the cam is straight" if shape == "straight" else
+                    f"the cam is {shape}, of radius of curvature {abs(rho):.4g} mm")
+        return ("the flank is straight across the contact line" if shape == "straight" else
+                f"the flank curves across the contact line as a {shape} radius of "
+                f"{abs(rho):.4g} mm")
 
     def where_words(self) -> str:
         """Where the largest stress is: the side, its point on the cam or along the line."""
@@ -191,9 +211,12 @@ def contact_stress(design: Design, contact: Contact, force: Array) -> ContactStr
             assert contact.length is not None
             stress = line_contact(load, contact.length, curvature + contact.follower_curvature,
                                   modulus)[0]
-        row = np.argmax(np.nan_to_num(stress, nan=np.inf), axis=0)
+        # surfaces that conform or cross (a cam hollower than the roller: an undercut) bear a
+        # load nowhere Hertz measures: unbounded where loaded
+        stress = np.where(load > 0.0, np.nan_to_num(stress, nan=np.inf), 0.0)
+        row = np.argmax(stress, axis=0)
         stress = stress[row, np.arange(n)]
-        better = (load > 0.0) & ~(stress <= best)
+        better = (load > 0.0) & (stress > best)
         best = np.where(better, stress, best)
         side_of = np.where(better, k, side_of)
         row_of = np.where(better, row, row_of)

@@ -132,7 +132,7 @@ def drum_problem(design: Design, grid_pair: tuple[Grid, Grid]) -> SizeProblem:
                           wall_need(cam.bore, cam.keyway.depth)))
     # the drum of the design at radius 1: only its radius changes
     base = replace(_drum_of(design), radius=1.0)
-    stress = stress_limit(design, program, grid_pair, True, depth, "cam.groove_depth")
+    stress = stress_limit(design, grid_pair)
 
     def evaluate(radius: float, fine: bool, until: bool = False) -> list[LimitValue]:
         fit = [LimitValue(key, what, radius >= need, radius, need, least=need)

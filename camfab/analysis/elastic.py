@@ -33,7 +33,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from camfab.arrays import Array, Index
+from camfab.arrays import Array
 
 #: Below this |λH| the φ-functions are summed as their Taylor series (to its last term that
 #: counts); above it, by their recurrence from e^{λH}, which is then well conditioned.
@@ -194,22 +194,3 @@ def respond(train: Train, omega: float, theta: Array, motion: Array) -> Response
     force, rate = rigid_force(train, omega, motion)
     error, error_rate = periodic_response(train, omega, theta, force, rate)
     return Response(theta, error, error_rate, contact_force(train, omega, error, error_rate))
-
-
-def resonance_order(train: Train, omega: float) -> float:
-    """ω_d/ω... the train's damped natural frequency over the cam's: at an undamped train, an
-    integer means resonance (the steady state has no bound)."""
-    zeta = train.total_zeta
-    return train.natural * math.sqrt(max(1.0 - zeta * zeta, 0.0)) / omega
-
-
-def dwell_vibration(segment: Index, kinds: list[str], error: Array) -> list[tuple[int, float]]:
-    """The peak-to-peak dynamic error (m) over each dwell: (segment index, amplitude)."""
-    out = []
-    for index, kind in enumerate(kinds):
-        if kind != "dwell":
-            continue
-        picked = error[segment == index]
-        if picked.size:
-            out.append((index, float(picked.max() - picked.min())))
-    return out

@@ -215,9 +215,7 @@ def plate_problem(design: Design, follower: FollowerGeometry, grid_pair: tuple[G
     build's grid, and with the finer one)."""
     limits = design.limits
     face_width = design.follower.face_width
-    extent = (design.cam.groove_depth, "cam.groove_depth") if groove else (
-        design.cam.thickness, "cam.thickness")
-    stress = stress_limit(design, design.program, grid_pair, groove or partner, *extent)
+    stress = stress_limit(design, grid_pair)
     rules = CamLimits(math.degrees(design.pressure_angle_limit), limits.min_radius_of_curvature,
                       face_width, groove, stress)
     working = replace(follower, radius=follower.radius + clearance)

@@ -33,10 +33,6 @@ class CamResult:
     #: ``camfab inspect`` with another follower runs it over the working curve sampled finer
     #: than the cam's outline (a disc cam's), rather than over the outline as computed.
     refine_for_inspection = False
-    #: True when the cam holds its follower on both sides of its motion (a groove's walls, a
-    #: pair's two cams, a drum's or a globoid's flanks): without a spring the force on it is
-    #: the inertia alone, on whichever side carries it.
-    two_sided = False
 
     def kind_name(self, design: Design) -> str:
         """What the cam is called in a sentence ("disc cam")."""

@@ -23,7 +23,6 @@ from camfab.arrays import Array
 
 if TYPE_CHECKING:
     from camfab.design import Design
-    from camfab.motion.program import MotionProgram
 
 
 @dataclass(frozen=True)
@@ -56,33 +55,27 @@ class StressLimit:
             else:
                 assert self.length is not None
                 stress = line_contact(load, self.length, total, self.modulus)[0]
-            worst = np.fmax(worst, np.max(np.nan_to_num(stress, nan=np.inf), axis=0))
+            # surfaces that conform or cross bear a load nowhere Hertz measures: past any limit
+            # where loaded, as the build's stress sees it (contact.contact_stress)
+            stress = np.where(load > 0.0, np.nan_to_num(stress, nan=np.inf), 0.0)
+            worst = np.fmax(worst, np.max(stress, axis=0))
         k = int(np.argmax(worst))
         return LimitValue("contact_stress" + suffix, "the contact stress",
                           not bool((worst > self.limit).any()), float(worst[k]), self.limit,
                           "MPa", "max", math.degrees(float(grid.theta[k])))
 
 
-def stress_limit(design: Design, program: MotionProgram, grid_pair: tuple[Grid, Grid],
-                 two_sided: bool, extent: float | None, what: str,
-                 length: float | None = None) -> StressLimit | None:
+def stress_limit(design: Design, grid_pair: tuple[Grid, Grid]) -> StressLimit | None:
     """The contact stress as a limit of *design*'s sizing on *grid_pair*, or None where the
-    design gives no ``limits.contact_stress`` or its stress cannot be computed (no force, a
-    knife edge, a contact of unknown length). *two_sided*: the cam drives its follower both
-    ways; *extent* (mm): the cam's extent across the motion, *what* its key (the contact's
-    length with a roller's, :func:`camfab.analysis.contact.contact_length`), or the *length*
-    itself."""
-    from camfab.analysis.at_speed import force_note
+    design gives no ``limits.contact_stress`` (the design file's rules refuse one whose stress
+    cannot be computed: a knife, no force, a contact of unknown length)."""
     from camfab.analysis.contact import contact_length
 
     limit, fol = design.limits.contact_stress, design.follower
     held_by_spring = design.spring is not None
-    if limit is None or fol.type == "knife" or force_note(design, held_by_spring, two_sided):
+    if limit is None:
         return None
-    if fol.type != "mushroom" and length is None:
-        length, _ = contact_length(design, extent, what)
-        if length is None:
-            return None
+    length, _ = contact_length(design)
     e1, nu1 = design.materials.constants("cam")
     e2, nu2 = design.materials.constants("follower")
     radius = {"roller": fol.roller_radius, "mushroom": fol.face_radius}.get(fol.type)

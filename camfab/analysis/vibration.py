@@ -64,26 +64,34 @@ class Vibration:
     """The elastic follower train at the design speed.
 
     ``theta`` (rad) is the analysis grid; ``error_m`` the dynamic error x − s at the trace
-    point (m), ``force_N`` the elastic contact force along the follower's motion and
-    ``rigid_N`` the rigid model's (N). ``held_by_spring`` is False for a positive-drive cam.
-    ``jump_speed_rpm`` is the least speed at which a spring-held follower first leaves the cam
-    (None: not below ``searched_to_rpm``); ``flank_changes`` are the cam angles (deg) where a
-    positive drive's force changes sign and the side it passes onto (+1 the side that pushes
-    the follower along its motion). ``harmonics`` and ``amplitudes`` are the acceleration's
-    harmonics (per turn) and their amplitudes (m/s² at the trace point); ``trace_m`` is the
-    trace point's metres per unit of lift (mm, or rad of an arm's swing)."""
+    point (m), of which ``static_m`` = −F_r/K is the train's compression under the rigid force
+    (the spring, the loads and the inertia taken quasi-statically: what a train that did not
+    vibrate would give) and the rest its vibration; ``force_N`` the elastic contact force along
+    the follower's motion and ``rigid_N`` the rigid model's (N). ``one_sided`` is True where
+    the follower can leave the cam (a spring holds it on one side), False where the cam holds
+    it on both. ``jump_speed_rpm`` is the least speed, from ``searched_from_rpm``, at which a
+    one-sided follower first leaves the cam (None: not below ``searched_to_rpm``;
+    ``jump_at_every_speed``: it leaves it already at the first speed searched);
+    ``flank_changes`` are the cam angles (deg) where a two-sided cam's force changes sign and
+    the side it passes onto (+1 the side that pushes the follower along its motion).
+    ``harmonics`` and ``amplitudes`` are the acceleration's harmonics (per turn) and their
+    amplitudes (m/s² at the trace point); ``trace_m`` is the trace point's metres per unit of
+    lift (mm, or rad of an arm's swing)."""
 
     train: Train
     speed_rpm: float
     theta: Array
     segment: Index
     error_m: Array
+    static_m: Array
     force_N: Array
     rigid_N: Array
-    held_by_spring: bool
+    one_sided: bool
     dwells: tuple[Dwell, ...]
     jump_speed_rpm: float | None
+    searched_from_rpm: float
     searched_to_rpm: float
+    jump_at_every_speed: bool
     flank_changes: tuple[tuple[float, int], ...]
     harmonics: Array
     amplitudes: Array
@@ -106,6 +114,17 @@ class Vibration:
     @property
     def max_error_at_deg(self) -> float:
         return _deg(self.theta[int(np.argmax(np.abs(self.error_m)))])
+
+    @property
+    def max_static_m(self) -> float:
+        """The train's largest compression under the rigid force, |F_r|/K (m)."""
+        return float(np.max(np.abs(self.static_m)))
+
+    @property
+    def max_ringing_m(self) -> float:
+        """The largest departure of the mass from where the train's compression alone puts it,
+        |x − s − static| (m): its vibration."""
+        return float(np.max(np.abs(self.error_m - self.static_m)))
 
     @property
     def residual_m(self) -> float | None:
@@ -152,10 +171,12 @@ def train_of(design: Design, held_by_spring: bool) -> Train | None:
                  fol.train_damping_ratio, spring.damping, spring_load(design))
 
 
-def vibration(design: Design, program: MotionProgram, held_by_spring: bool,
+def vibration(design: Design, program: MotionProgram, held_by_spring: bool, two_sided: bool,
               step: float) -> Vibration | None:
     """The elastic follower train of *design* at its speed on the analysis grid of *step*
-    (rad), or None without a stiffness."""
+    (rad), or None without a stiffness: held by its spring (*held_by_spring*) or not, by a cam
+    that holds it on both sides (*two_sided*: the force's sign is the side that carries it) or
+    on one (where the force falls below zero the follower leaves the cam)."""
     train = train_of(design, held_by_spring)
     omega = design.cam.omega
     if train is None or omega is None:
@@ -167,18 +188,30 @@ def vibration(design: Design, program: MotionProgram, held_by_spring: bool,
     dwells = tuple(Dwell(seg.index, _deg(seg.start), _deg(seg.end),
                          float(np.ptp(response.error[segment == seg.index])))
                    for seg in program.segments if seg.kind == "dwell")
-    jump = searched = None
-    changes: tuple[tuple[float, int], ...] = ()
     speed = design.cam.speed_rpm
     assert speed is not None
-    if held_by_spring:
-        jump, searched = jump_speed(train, program, scale, speed)
-    else:
+    search = JumpSearch(None, SEARCH_FROM * speed, SEARCH_TO * speed, False)
+    changes: tuple[tuple[float, int], ...] = ()
+    if two_sided:
         changes = flank_changes(theta, response.force)
+    else:
+        search = jump_speed(train, program, scale, speed)
     harmonics, amplitudes = spectrum(program, omega, scale, train.natural / omega)
-    return Vibration(train, speed, theta, segment, response.error, response.force, rigid,
-                     held_by_spring, dwells, jump, searched or SEARCH_TO * speed, changes,
-                     harmonics, amplitudes, scale)
+    return Vibration(train, speed, theta, segment, response.error,
+                     -rigid / train.total_stiffness, response.force, rigid, not two_sided,
+                     dwells, search.speed_rpm, search.low_rpm, search.high_rpm,
+                     search.every_speed, changes, harmonics, amplitudes, scale)
+
+
+@dataclass(frozen=True)
+class JumpSearch:
+    """The least speed (rpm) at which a one-sided follower first leaves the cam (None: at none
+    searched), the speeds searched, and whether it leaves it already at the first."""
+
+    speed_rpm: float | None
+    low_rpm: float
+    high_rpm: float
+    every_speed: bool
 
 
 def _min_forces(train: Train, theta: Array, motion: Array, speeds_rpm: Array) -> Array:
@@ -191,11 +224,11 @@ def _min_forces(train: Train, theta: Array, motion: Array, speeds_rpm: Array) ->
 
 
 def jump_speed(train: Train, program: MotionProgram, scale: float,
-               speed_rpm: float) -> tuple[float | None, float]:
+               speed_rpm: float) -> JumpSearch:
     """The least speed (rpm) at which the elastic train's contact force first falls below
-    zero, searched from :data:`SEARCH_FROM` to :data:`SEARCH_TO` times *speed_rpm*: None and
-    the top of the search when it does not. Speeds at which the undamped train resonates are
-    stepped over (its force there has no bound, and the scan sees the rise toward it)."""
+    zero, searched from :data:`SEARCH_FROM` to :data:`SEARCH_TO` times *speed_rpm*. Speeds at
+    which the undamped train resonates are stepped over (its force there has no bound, and the
+    scan sees the rise toward it)."""
     _, coarse, coarse_motion = program.segment_grid(SCAN_STEP)
     _, theta, motion = program.segment_grid(SEARCH_STEP)
     coarse_motion, motion = coarse_motion * scale, motion * scale
@@ -210,10 +243,10 @@ def jump_speed(train: Train, program: MotionProgram, scale: float,
         least = _min_forces(train, coarse, coarse_motion, speeds)
     lost = np.flatnonzero(~(least >= 0.0))
     if not lost.size:
-        return None, top
+        return JumpSearch(None, low_end, top, False)
     k = int(lost[0])
     if k == 0:
-        return float(speeds[0]), top
+        return JumpSearch(float(speeds[0]), low_end, top, True)
     low, high = float(speeds[k - 1]), float(speeds[k])
     while high - low > JUMP_TOLERANCE * high:
         trials = np.linspace(low, high, 9)[1:-1]
@@ -225,7 +258,7 @@ def jump_speed(train: Train, program: MotionProgram, scale: float,
             low = float(trials[bad[0] - 1]) if bad[0] > 0 else low
         else:
             low = float(trials[-1])
-    return high, top
+    return JumpSearch(high, low_end, top, False)
 
 
 def _away_from_resonance(train: Train, speeds_rpm: Array) -> Array:
@@ -234,10 +267,18 @@ def _away_from_resonance(train: Train, speeds_rpm: Array) -> Array:
     return np.abs(order - np.round(order)) > 1e-6 * order
 
 
+#: A two-sided cam's force must pass this share of its largest value to change sides: the
+#: ringing of a train about no force in a dwell (a few newtons' thousandths) floats the follower
+#: in its clearance, it does not knock it across.
+FLANK_SHARE = 0.01
+
+
 def flank_changes(theta: Array, force: Array) -> tuple[tuple[float, int], ...]:
-    """Where a positive drive's contact force changes sign (deg, the first angle of the new
-    sign) and the side it passes onto (+1: the side pushing the follower along its motion)."""
-    sign = np.sign(force)
+    """Where a two-sided cam's contact force changes sign (deg, the first angle at which it
+    carries the follower on the new side by more than :data:`FLANK_SHARE` of its largest
+    value) and the side it passes onto (+1: the side pushing the follower along its motion)."""
+    least = FLANK_SHARE * float(np.max(np.abs(force)))
+    sign = np.where(force > least, 1.0, np.where(force < -least, -1.0, 0.0))
     loaded = np.flatnonzero(sign != 0.0)
     if loaded.size < 2:
         return ()

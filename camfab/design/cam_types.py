@@ -70,6 +70,15 @@ class CamTypeSpec:
     translating_only: bool = False
     #: True when it drives its follower both ways (positive drive): a spring has nothing to do.
     positive_drive: bool = False
+    #: True when it holds its follower on both sides of its motion (a groove's walls, a pair's two
+    #: cams, a drum's or a globoid's flanks), spring or none: without a spring the force on the
+    #: follower is its inertia alone, and where the force changes sign the follower crosses to
+    #: the other side (it cannot leave the cam).
+    two_sided: bool = False
+    #: The key of the cam's extent across the follower's motion that a line contact spans (with a
+    #: roller's length): a plate's ``thickness``, a groove's ``groove_depth``; None where the
+    #: cam's geometry gives it (a globoid's roller inside its groove).
+    contact_extent: str | None = "thickness"
     #: True for a plate turning about its centre with a disc cam's exact curves: the follower's
     #: line must cross its prime circle, an oscillating arm must reach it.
     disc_curves: bool = False
@@ -441,7 +450,7 @@ GLOBOID_TOLERANCE_MM = 0.01
 
 #: The facts of the cam types that share them.
 _SHAPED = {"shaped": True, "translating_only": True}
-_POSITIVE_PLATE = {"disc_curves": True, "positive_drive": True}
+_POSITIVE_PLATE = {"disc_curves": True, "positive_drive": True, "two_sided": True}
 _GROOVE_KEYS = {"translating_keys": ("groove_clearance",),
                 "oscillating_keys": ("groove_clearance",)}
 _SIZED_PLATE = ("cam.base_radius", "follower.offset")
@@ -454,7 +463,7 @@ CAM_TYPES: dict[str, CamTypeSpec] = {spec.name: spec for spec in (
           (*_TURNING, "radius", "length", "groove_depth", "groove_start", "bore"),
           ("radius", "length", "groove_depth"), ("roller",), **_GROOVE_KEYS,
           translating_only=True, bore_within=None, keyway_within="radius",
-          auto_keys=("cam.radius",)),
+          auto_keys=("cam.radius",), two_sided=True, contact_extent="groove_depth"),
     _CircularArc("circular-arc", "camfab.kinds.shaped",
                  (*_TURNING, "base_radius", "lift", "lift_angle", "nose_radius", "flank_angle",
                   "top_dwell", *_BLANK), ("base_radius", "lift", "lift_angle"), _ANY_FOLLOWER,
@@ -465,7 +474,8 @@ CAM_TYPES: dict[str, CamTypeSpec] = {spec.name: spec for spec in (
     _Groove("groove", "camfab.kinds.groove",
             (*_TURNING, "base_radius", "thickness", "groove_depth", "outer_radius", "bore",
              "keyway"), ("base_radius", "thickness", "groove_depth"), ("roller",),
-            **_GROOVE_KEYS, **_POSITIVE_PLATE, auto_keys=_SIZED_PLATE),
+            **_GROOVE_KEYS, **_POSITIVE_PLATE, auto_keys=_SIZED_PLATE,
+            contact_extent="groove_depth"),
     _Conjugate("conjugate", "camfab.kinds.pair:CONJUGATE", (*_TURNING, "base_radius", *_BLANK),
                ("base_radius",), ("roller",), translating_keys=("roller_spacing",),
                oscillating_keys=("arm_angle",), **_POSITIVE_PLATE, auto_keys=_SIZED_PLATE),
@@ -477,8 +487,8 @@ CAM_TYPES: dict[str, CamTypeSpec] = {spec.name: spec for spec in (
                ("globoid", "groove_depth"), ("roller",),
                oscillating_keys=("groove_clearance", "roller_length", "rest_angle"),
                translating_keys=("groove_clearance", "roller_length", "rest_angle"),
-               positive_drive=True, bore_within=None, keyway_within=None,
-               default_tolerance=GLOBOID_TOLERANCE_MM),
+               positive_drive=True, two_sided=True, contact_extent=None, bore_within=None,
+               keyway_within=None, default_tolerance=GLOBOID_TOLERANCE_MM),
     _Linear("linear", "camfab.kinds.linear", ("type", "speed_rpm", "stroke", "base_height",
                                               "thickness"), ("stroke", "base_height"),
             ("roller", "knife"), span="travel", translating_only=True, bore_within=None,

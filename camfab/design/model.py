@@ -479,6 +479,18 @@ class Design(Frozen):
         return math.radians(35.0 if self.follower.oscillating else 30.0)
 
     @property
+    def contact_length(self) -> float | None:
+        """The length of the follower's line contact with the cam (mm): the shorter of the cam's
+        extent across the follower's motion (its type's
+        :attr:`~camfab.design.cam_types.CamTypeSpec.contact_extent`: a plate's thickness, a
+        groove's depth) and a roller's length; None where neither is given."""
+        key, fol = self.cam.spec.contact_extent, self.follower
+        lengths = [v for v in (None if key is None else getattr(self.cam, key),
+                               fol.roller_length if fol.type == "roller" else None)
+                   if v is not None]
+        return min(lengths) if lengths else None
+
+    @property
     def mm_per_unit(self) -> float:
         """Millimetres per design length unit (1 or 25.4)."""
         return U.MM_PER_UNIT[self.units]

@@ -84,7 +84,7 @@ def check_rules(design: Design, sizing: frozenset[str] = frozenset()) -> None:
     _check_manufacturing(design)
     _check_other(design)
     _check_train(design)
-    _check_life(design)
+    _check_at_speed(design)
     _check_size(design, program.max_lift)
 
 
@@ -404,18 +404,41 @@ def _check_train(design: Design) -> None:
                  "damping_ratio, or change the stiffness, the mass or the speed")
 
 
-def _check_life(design: Design) -> None:
-    """A roller's bearing life needs its load rating; only a roller has one."""
-    fol, limit = design.follower, design.limits.roller_life
+def _check_at_speed(design: Design) -> None:
+    """A limit of the cam at its speed must be one camfab can check: the contact stress of a
+    follower that has one (not a knife's) over a contact of known length, a roller's bearing
+    life with its load rating; both on the force on the follower, which needs its mass, the
+    cam's speed and a spring (or a cam that holds the follower both ways)."""
+    fol, limits = design.follower, design.limits
     if fol.roller_bearing is not None and fol.roller_load_rating is None:
         fail(("follower", "roller_bearing"), "only with follower.roller_load_rating (the "
              "bearing's basic dynamic load rating C, from its catalogue)")
-    if limit is not None and fol.type != "roller":
-        fail(("limits", "roller_life"), f"only a roller has a bearing life (this follower is "
-             f"a {fol.type})")
-    if limit is not None and fol.roller_load_rating is None:
-        fail(("limits", "roller_life"), "needs follower.roller_load_rating (the bearing's basic "
-             "dynamic load rating C, from its catalogue)")
+    rating = "follower.roller_load_rating (the bearing's basic dynamic load rating C, from its " \
+             "catalogue)"
+    if limits.roller_life is not None:
+        if fol.type != "roller":
+            fail(("limits", "roller_life"), f"only a roller has a bearing life (this follower "
+                 f"is a {fol.type})")
+        if fol.roller_load_rating is None:
+            fail(("limits", "roller_life"), f"needs {rating}")
+    if limits.contact_stress is not None:
+        if fol.type == "knife":
+            fail(("limits", "contact_stress"), "a knife edge's contact has no area, so Hertz "
+                 "gives it no stress to check")
+        if fol.type != "mushroom" and design.contact_length is None:
+            roller = " or follower.roller_length" if fol.type == "roller" else ""
+            fail(("limits", "contact_stress"), f"needs the contact's length: give "
+                 f"cam.{design.cam.spec.contact_extent}{roller}")
+    for key in ("contact_stress", "roller_life"):
+        if getattr(limits, key) is None:
+            continue
+        if fol.mass is None:
+            fail(("limits", key), "needs the force on the follower: give follower.mass (kg)")
+        if design.cam.speed_rpm is None:
+            fail(("limits", key), "needs the force on the follower: give cam.speed_rpm")
+        if design.spring is None and not design.cam.spec.two_sided:
+            fail(("limits", key), "needs the force on the follower: give the spring that holds "
+                 "it on the cam")
 
 
 #: Largest cam size per unit of export tolerance. An STL's float32 coordinates round by up to

@@ -173,9 +173,13 @@ def _stress_section(analysis: Analysis, dynamics: dict[str, Any]) -> dict[str, A
         if xy is not None:
             rows.append(("at the point of the cam (mm)", f"({num(xy[0])}, {num(xy[1])})"))
         if along is not None:
-            rows.append(("along the contact line (mm)", num(along)))
-        rows += [("the cam's radius of curvature there (mm)",
-                  num(dynamics["contact_stress_cam_radius_mm"])),
+            rows.append((f"along the contact line, {dynamics['contact_stress_max_at_mm_from']} "
+                         "(mm)", num(along)))
+        shape, radius = dynamics["contact_stress_cam_shape"], dynamics[
+            "contact_stress_cam_radius_mm"]
+        rows += [("the flank across the contact line (mm)" if along is not None else
+                  "the cam there, its radius of curvature (mm)",
+                  shape if radius is None else f"{shape}, {num(abs(radius))}"),
                  ("contact", dynamics["contact"]),
                  ("contact length (mm)", num(dynamics["contact_length_mm"])),
                  ("effective modulus E* (MPa)", num(dynamics["effective_modulus_MPa"]))]
@@ -208,6 +212,10 @@ def _vibration_section(analysis: Analysis, dynamics: dict[str, Any]) -> dict[str
             ("damping ratio ζ of the train", num(dynamics["damping_ratio"])),
             ("largest dynamic error x − s (mm)", f"{num(dynamics['dynamic_error_max_mm'])} at "
              f"{num(dynamics['dynamic_error_max_at_deg'])}°"),
+            ("of it, the train's largest compression under the load (mm)",
+             num(dynamics["static_deflection_max_mm"])),
+            ("and its vibration about that, at most (mm)",
+             num(dynamics["dynamic_vibration_max_mm"])),
             ("largest residual vibration in a dwell, peak to peak (mm)",
              num(dynamics["residual_vibration_mm"])),
             ("least contact force (N)", f"{num(dynamics['dynamic_min_contact_force_N'])} at "

@@ -144,7 +144,10 @@ def at_speed_dict(analysis: Analysis) -> dict[str, Any]:
                                          else float(side.rows[row])),
             "contact_stress_max_at_xy_mm": (None if side is None or side.place is None
                                             else [float(v) for v in side.place[stress.index]]),
+            "contact_stress_max_at_mm_from": (None if side is None or side.rows is None
+                                              else side.rows_from),
             "contact_stress_cam_radius_mm": stress.cam_radius_at(stress.index),
+            "contact_stress_cam_shape": stress.shape_at(stress.index),
             "contact": contact.shape,
             "contact_length_mm": contact.length,
             "effective_modulus_MPa": stress.modulus,
@@ -169,12 +172,20 @@ def at_speed_dict(analysis: Analysis) -> dict[str, Any]:
                  "peak_to_peak_mm": 1000.0 * d.peak_to_peak_m} for d in shaken.dwells],
             "dynamic_min_contact_force_at_deg": shaken.min_force_at_deg,
             "dynamic_max_contact_force_N": shaken.max_force_N,
-            "dynamic_jump_searched_to_rpm": (shaken.searched_to_rpm if shaken.held_by_spring
+            "dynamic_jump_searched_from_rpm": (shaken.searched_from_rpm if shaken.one_sided
+                                               else None),
+            "dynamic_jump_searched_to_rpm": (shaken.searched_to_rpm if shaken.one_sided
                                              else None),
+            "dynamic_jump_at_every_speed": (shaken.jump_at_every_speed if shaken.one_sided
+                                            else None),
+            "static_deflection_max_mm": 1000.0 * shaken.max_static_m,
+            "dynamic_vibration_max_mm": 1000.0 * shaken.max_ringing_m,
         })
-        if not shaken.held_by_spring:
+        if not shaken.one_sided:
             out["flank_changes"] = [{"cam_angle_deg": deg, "onto": "pushing" if onto > 0
                                      else "pulling back"} for deg, onto in shaken.flank_changes]
+    elif analysis.design.follower.stiffness is not None and speed is not None:
+        out["vibration_note"] = speed.force_note
     else:
         out["vibration_note"] = ("the follower train is rigid: give follower.stiffness (N/mm) "
                                  "for its vibration")

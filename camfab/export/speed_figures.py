@@ -83,12 +83,14 @@ def vibration_figure(analysis: Analysis) -> str | None:
         return None
     fig, (lift_ax, error_ax, force_ax) = panel_stack(3, "vibration")
     scale = 1000.0  # mm at the trace point
-    s = analysis.program.segment_grid(math.radians(0.05))[2][0] * shaken.trace_m * scale
-    theta, kinematic, error, force, rigid = thin(np.degrees(shaken.theta), s,
-                                                  shaken.error_m * scale, shaken.force_N,
-                                                  shaken.rigid_N)
+    s = analysis.program.evaluate(shaken.theta)[0] * shaken.trace_m * scale
+    theta, kinematic, error, static, force, rigid = thin(
+        np.degrees(shaken.theta), s, shaken.error_m * scale, shaken.static_m * scale,
+        shaken.force_N, shaken.rigid_N)
     lift_ax.plot(theta, kinematic, color=REFERENCE, linewidth=1.0, label="the cam's lift")
     lift_ax.plot(theta, kinematic + error, color=PITCH, linewidth=1.0, label="the mass's")
+    error_ax.plot(theta, static, color=REFERENCE, linewidth=0.8, linestyle="--",
+                  label="the train's compression")
     error_ax.plot(theta, error, color=PITCH, linewidth=1.0, label="x − s")
     error_ax.axhline(0.0, color=REFERENCE, linewidth=0.5)
     for dwell in shaken.dwells:
@@ -97,7 +99,7 @@ def vibration_figure(analysis: Analysis) -> str | None:
     force_ax.plot(theta, rigid, color=REFERENCE, linewidth=0.8, label="rigid")
     force_ax.plot(theta, force, color=FOLLOWER, linewidth=1.0, label="elastic")
     force_ax.axhline(0.0, color=BAD, linewidth=0.8, linestyle="--")
-    if shaken.held_by_spring and (force < 0).any():
+    if shaken.one_sided and (force < 0).any():
         force_ax.fill_between(theta, force, 0, where=force < 0, color=BAD, alpha=0.4,
                               label="contact lost")
     where = "at the trace point" if analysis.design.follower.oscillating else ""

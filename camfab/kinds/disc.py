@@ -151,11 +151,10 @@ def plate_side(cam: DiscCam, working: CurvePoints, pressure_angle: Array,
 
 def plate_contact(design: Design, geom: DiscGeometry,
                   sides: tuple[ContactSide, ...] | None = None,
-                  rollers: tuple[str, ...] = ("the roller",),
-                  extent: tuple[float | None, str] | None = None) -> Contact:
+                  rollers: tuple[str, ...] = ("the roller",)) -> Contact:
     """How the follower of a plate cam touches it over the analysis grid: the profile (or
-    *sides*), a roller's or a flat face's line over the plate's thickness (or *extent*: the
-    cam's extent across the motion and its key), a mushroom's point, a knife's none."""
+    *sides*), a roller's or a flat face's line over the plate's thickness (a groove's depth), a
+    mushroom's point, a knife's none."""
     from camfab.analysis.contact import KNIFE_NOTE, Contact, contact_length
 
     fol, dense = design.follower, geom.dense
@@ -168,7 +167,7 @@ def plate_contact(design: Design, geom: DiscGeometry,
     if fol.type == "mushroom":
         assert fol.face_radius is not None
         return Contact(theta, "point", 1.0 / fol.face_radius, None, sides)
-    length, note = contact_length(design, *(extent or (design.cam.thickness, "cam.thickness")))
+    length, note = contact_length(design)
     radius = fol.roller_radius if fol.type == "roller" else None
     return Contact(theta, "line", 0.0 if radius is None else 1.0 / radius, length, sides,
                    radius, rollers, note)

@@ -42,7 +42,6 @@ class DrumResult(CamResult):
     drum: DrumDense
     numbers: DrumNumbers
     drawing_title = "The groove developed, the roller running in it"
-    two_sided = True
 
     def kind_name(self, design: Design) -> str:
         return "drum cam"
@@ -106,7 +105,7 @@ class DrumResult(CamResult):
                                   rows=dense.radii, rows_from="from the drum's axis")
                       for name, carries, curvature in (("the lower flank", 1, lower),
                                                        ("the upper flank", -1, upper)))
-        length, note = contact_length(design, d.depth, "cam.groove_depth")
+        length, note = contact_length(design)
         radius = design.follower.roller_radius or 0.0
         return Contact(dense.theta, "line", 1.0 / radius, length, sides, radius, note=note)
 

@@ -46,7 +46,6 @@ class GloboidResult(CamResult):
     globoid: GloboidDense
     numbers: GloboidNumbers
     drawing_title = "The cam in section through its axis, the arm swinging"
-    two_sided = True
 
     def kind_name(self, design: Design) -> str:
         return f"globoidal cam ({design.cam.globoid})"
@@ -88,6 +87,10 @@ class GloboidResult(CamResult):
                                           motion[1][None, :])).max(axis=0)
         empty = np.full(theta.size, np.nan)
         return list(zip(TABLE_COLUMNS, (phi, empty, empty), strict=True))
+
+    def dynamics_note(self, analysis: Analysis) -> str:
+        return ("a globoidal cam drives its follower both ways without a spring: the forces on "
+                "its flanks are the cam at its speed's (contact_stress_..., roller_life_h)")
 
     def contact(self, analysis: Analysis) -> Contact:
         """The roller on the flank behind it where it is pushed along its swing, on the other

@@ -265,7 +265,6 @@ class GrooveResult(PlateResult):
 
     groove: GrooveWalls
     refine_for_inspection = False
-    two_sided = True
 
     def report_geometry(self, analysis: Analysis) -> dict[str, Any]:
         return {**super().report_geometry(analysis), **self.groove.report_geometry()}
@@ -287,8 +286,7 @@ class GrooveResult(PlateResult):
                             always=False),
                  plate_side(cam, walls.outer_dense, dense.pressure_angle, None,
                             "the outer wall", -1, always=False, sign=-1.0))
-        return plate_contact(analysis.design, self.geometry, sides,
-                             extent=(walls.depth, "cam.groove_depth"))
+        return plate_contact(analysis.design, self.geometry, sides)
 
     def summary(self, analysis: Analysis) -> list[str]:
         walls = self.groove

@@ -207,7 +207,7 @@ class LinearResult(CamResult):
             curvature = 1.0 / working.radius
         side = ContactSide("the plate's edge", 1, curvature, 1.0 / np.cos(dense.pressure_angle),
                            working.speed, place=working.xy, frame="the plate's frame")
-        length, note = contact_length(design, design.cam.thickness, "cam.thickness")
+        length, note = contact_length(design)
         radius = design.follower.roller_radius or 0.0
         return Contact(dense.theta, "line", 1.0 / radius, length, (side,), radius, note=note)
 

@@ -132,7 +132,6 @@ class PairResult(PlateResult):
 
     partner: Partner
     refine_for_inspection = False
-    two_sided = True
 
     def report_geometry(self, analysis: Analysis) -> dict[str, Any]:
         return {**super().report_geometry(analysis), **self.partner.report_geometry()}

@@ -18,7 +18,8 @@ if TYPE_CHECKING:
 #: The key numbers of a row, by column name, in order (units in the names; the motion's are SI:
 #: m/s, m/s², m/s³ for a translating follower, rad/s, rad/s², rad/s³ for an oscillating one,
 #: as ``motion_units`` says; the cam at its speed last: its contact stress, the vibration left
-#: in its dwells by an elastic follower train, its roller's bearing life). A drum's pressure
+#: in its dwells by an elastic follower train and the speed at which it first leaves the cam,
+#: its roller's bearing life). A drum's pressure
 #: angle is its worst (at the groove's root), its curvature the developed groove's, its undercut
 #: the groove check's (a wall that folds), as for a groove cam.
 NUMBERS = (
@@ -36,6 +37,7 @@ NUMBERS = (
     "min_contact_force_N",
     "contact_stress_max_MPa",
     "residual_vibration_mm",
+    "dynamic_jump_speed_rpm",
     "roller_life_h",
 )
 #: The columns ``--size`` adds: the least base radius (a drum's radius) meeting the limits.
@@ -147,15 +149,17 @@ def key_numbers(analysis: Analysis) -> tuple[Any, ...]:
     )
 
 
-def _at_speed_numbers(analysis: Analysis) -> tuple[float | None, float | None, float | None]:
+def _at_speed_numbers(analysis: Analysis) -> tuple[float | None, ...]:
     """The largest contact stress (MPa), the largest residual vibration in a dwell (mm
-    peak to peak) and the roller's least L10 life (h), None where not computed."""
+    peak to peak), the least speed at which the elastic follower first leaves the cam (rpm)
+    and the roller's least L10 life (h), None where not computed."""
     speed = analysis.at_speed
     if speed is None:
-        return None, None, None
+        return None, None, None, None
     shaken = speed.vibration
     residual = None if shaken is None or shaken.residual_m is None else 1000.0 * shaken.residual_m
     return (None if speed.stress is None else _number(speed.stress.max_MPa), _number(residual),
+            None if shaken is None else _number(shaken.jump_speed_rpm),
             None if speed.life is None else _number(speed.life.hours_min))
 
 
