@@ -10,6 +10,7 @@ they finish in; a progress bar on stderr counts them as they finish.
 
 from __future__ import annotations
 
+import sys
 import time
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager, suppress
@@ -189,7 +190,7 @@ def progress_bar(count: int, label: str = "building") -> Any:
     """A progress bar of *count* steps on stderr, drawn at once."""
     import click
 
-    bar = click.progressbar(length=count, label=label, file=click.get_text_stream("stderr"),
+    bar = click.progressbar(length=count, label=label, file=sys.stderr,
                             show_pos=True, show_eta=True)
     bar.render_progress()
     return bar

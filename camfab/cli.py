@@ -188,7 +188,8 @@ def main() -> None:
 @main.command()
 @click.argument("designs", nargs=-1, required=True)
 @click.option("-o", "--output", "out_dir", type=click.Path(file_okay=False, path_type=Path),
-              help="Write the files into DIR instead of exports/<name>/.", metavar="DIR")
+              help="Write the files into DIR instead of exports/<name>/ (several designs: "
+                   "each into DIR/<name>/).", metavar="DIR")
 @click.option("-j", "--jobs", type=click.IntRange(1, 256), default=1, show_default=True,
               help="Build this many designs in parallel processes.")
 @click.option("--progress/--no-progress", default=None,
@@ -214,7 +215,8 @@ def build(designs: tuple[str, ...], out_dir: Path | None, jobs: int,
         progress = len(designs) >= PROGRESS_FROM and sys.stderr.isatty()
     start = time.perf_counter()
     refused = same_names(designs) if len(designs) > 1 else {}
-    task = partial(_build_one, also=("step",) if step else ())
+    # several designs into one -o DIR: each in DIR/NAME/, as under exports/
+    task = partial(_build_one, also=("step",) if step else (), nested=len(designs) > 1)
     built = iter(run_all([p for i, p in enumerate(designs) if i not in refused], out_dir, jobs,
                          task, progress, _import_build))
     outcomes = [refused[i] if i in refused else next(built) for i in range(len(designs))]
@@ -310,7 +312,7 @@ def sweep(design: str, vary: tuple[str, ...], variants: Path | None, out_dir: Pa
     from camfab.sweep.run import SweepOptions
 
     if progress is None:
-        progress = click.get_text_stream("stderr").isatty()
+        progress = sys.stderr.isatty()
     options = SweepOptions(Path(design), vary, variants, out_dir,
                            jobs or _processors(), scheduler, size, build_best, minimize,
                            maximize, table_format, progress)
@@ -396,7 +398,8 @@ def new(kind: str | None) -> None:
 @click.option("--smooth", metavar="DEG", help="Half-width of the window the derivatives are "
                                               "fitted over (default 1° drawings, 3° points).")
 @click.option("--tolerance", metavar="T", help="Largest deviation accepted, a length (default the "
-                                                "design's tolerance).")
+                                                "design's inspection.tolerance: 0.025 mm, "
+                                                "0.001 in).")
 @click.option("--kerf", metavar="K", help="The outline is a laser's path: take kerf/2 off "
                                            "(default: what a camfab DXF's note says, else 0).")
 @click.option("--align", is_flag=True, help="Turn the outline into phase with the design first.")
@@ -489,12 +492,13 @@ def _guarded(path: str, work) -> Outcome:
                                "(set CAMFAB_DEBUG=1 for details; please report it)"])
 
 
-def _build_one(path: str, out_dir: Path | None, also: tuple[str, ...] = ()) -> Outcome:
+def _build_one(path: str, out_dir: Path | None, also: tuple[str, ...] = (),
+               nested: bool = False) -> Outcome:
     def work() -> Outcome:
         from camfab.analysis.sizing_words import sized_words
         from camfab.pipeline import build as build_design
 
-        result = build_design(path, out_dir, also)
+        result = build_design(path, out_dir, also, nested)
         lines = [f"{result.analysis.design.name}: {_verdict(result.analysis)} — wrote "
                  f"{len(result.written)} file(s) to {result.folder}/"]
         lines += [f"  {p.name}" for p in result.written]

@@ -375,22 +375,26 @@ class BuildResult:
         return self.analysis.exit_code
 
 
-def output_folder(design: Design, out_dir: Path | None) -> Path:
-    """``exports/<name>/`` under the working directory, or *out_dir* when given."""
-    return out_dir if out_dir is not None else Path("exports") / design.name
+def output_folder(design: Design, out_dir: Path | None, nested: bool = False) -> Path:
+    """``exports/<name>/`` under the working directory, or *out_dir* when given (with *nested*,
+    as a batch writes: ``<out_dir>/<name>/``, a folder of each design's own)."""
+    if out_dir is None:
+        return Path("exports") / design.name
+    return out_dir / design.name if nested else out_dir
 
 
 def build(path: str | Path, out_dir: Path | None = None,
-          also: tuple[str, ...] = ()) -> BuildResult:
+          also: tuple[str, ...] = (), nested: bool = False) -> BuildResult:
     """Load, analyse, render and write one design file; *also* the outputs named (``step``)
-    besides those the design asks for."""
+    besides those the design asks for; *nested*: its files in a folder of its name inside
+    *out_dir* (a batch's)."""
     design = load_design(path)
     if also:
         asked = design.outputs or ALL_OUTPUTS
         design = design.model_copy(update={"outputs": tuple(dict.fromkeys((*asked, *also)))})
     analysis = analyse(design)
     artifacts = render(analysis)
-    folder = output_folder(design, out_dir)
+    folder = output_folder(design, out_dir, nested)
     written = write_files(folder, artifacts.files)
     return BuildResult(artifacts.analysis or analysis, folder, written, artifacts.not_produced)
 

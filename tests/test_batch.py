@@ -29,19 +29,24 @@ def _build(paths: list[Path], out: Path, seed: str) -> subprocess.CompletedProce
 
 
 def test_two_builds_of_every_design_give_identical_bytes(tmp_path: Path) -> None:
+    """And a batch writes each design into a folder of its name inside -o DIR, as under
+    exports/ (not 200 files flat in DIR)."""
     first = _build(DESIGN_FILES, tmp_path / "first", "1")
     second = _build(DESIGN_FILES[::-1], tmp_path / "second", "2")
     assert first.returncode == second.returncode, first.stderr + second.stderr
     assert "Traceback" not in first.stderr + second.stderr
-    names = sorted(p.name for p in (tmp_path / "first").iterdir())
-    assert names == sorted(p.name for p in (tmp_path / "second").iterdir())
-    # every design wrote its files (a conjugate pair writes NAME-a.dxf and NAME-b.dxf)
-    for path in DESIGN_FILES:
-        assert any(n.startswith(path.stem + ".") or n.startswith(path.stem + "-")
-                   for n in names), path.stem
-    _, mismatch, errors = filecmp.cmpfiles(tmp_path / "first", tmp_path / "second", names,
-                                           shallow=False)
-    assert not mismatch and not errors, mismatch + errors
+    folders = sorted(p.name for p in (tmp_path / "first").iterdir())
+    assert folders == sorted(p.stem for p in DESIGN_FILES)  # (each example's name is its stem)
+    assert folders == sorted(p.name for p in (tmp_path / "second").iterdir())
+    for folder in folders:
+        names = sorted(p.name for p in (tmp_path / "first" / folder).iterdir())
+        # every design wrote its files (a conjugate pair writes NAME-a.dxf and NAME-b.dxf)
+        assert names and all(n.startswith(folder) for n in names), folder
+        assert names == sorted(p.name for p in (tmp_path / "second" / folder).iterdir())
+        _, mismatch, errors = filecmp.cmpfiles(tmp_path / "first" / folder,
+                                               tmp_path / "second" / folder, names,
+                                               shallow=False)
+        assert not mismatch and not errors, mismatch + errors
 
 
 def test_a_batch_goes_on_past_failures_and_ends_with_a_summary(tmp_path: Path) -> None:
@@ -52,8 +57,9 @@ def test_a_batch_goes_on_past_failures_and_ends_with_a_summary(tmp_path: Path) -
     assert result.exit_code == 2
     assert "broken.yaml:1: follower: required" in result.stderr
     out = tmp_path / "out"
-    assert (out / "seed-10-4.dxf").exists() and (out / "demo-table.dxf").exists()
-    assert not any(p.name.startswith("broken") for p in out.iterdir())
+    assert (out / "seed-10-4" / "seed-10-4.dxf").exists()
+    assert (out / "demo-table" / "demo-table.dxf").exists()
+    assert sorted(p.name for p in out.iterdir()) == ["demo-table", "seed-10-4"]
     lines = result.stdout.splitlines()
     table = lines[lines.index(next(line for line in lines if line.startswith("design "))):]
     rows = {line.split()[0]: line.split() for line in table[2:5]}

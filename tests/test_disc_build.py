@@ -104,6 +104,27 @@ def test_undercut_roller_is_trimmed_and_its_motion_error_measured() -> None:
     assert "roller radius below 10.94 mm" in finding.message
 
 
+def test_where_the_envelope_folds_and_where_the_cut_cam_departs_are_said_apart() -> None:
+    """Two ranges with their own words, in the message and in the JSON: where the pitch
+    curve's convex radius is under the roller's (scanned here on a grid of its own), and the
+    wider one where the cam as cut (the loops trimmed) departs from the design."""
+    analysis = analyse(load_design(DESIGNS / "demo-undercut.yaml"))
+    geom = analysis.geometry
+    theta = np.radians(np.arange(0.0, 360.0, 0.01))
+    radius = geom.cam.pitch(theta, analysis.program.evaluate(theta)).radius
+    folds = np.degrees(theta[(radius > 0) & (radius < 12.0)])
+    report = json.loads(render(analysis).files["demo-undercut-report.json"])["geometry"]
+    [(fold_start, fold_end)] = report["undercut_fold_ranges_deg"]
+    [(cut_start, cut_end)] = report["undercut_cut_ranges_deg"]
+    assert fold_start == pytest.approx(folds.min(), abs=0.06)
+    assert fold_end == pytest.approx(folds.max(), abs=0.06)
+    assert cut_start < fold_start - 1.0 and cut_end > fold_end + 1.0
+    finding = next(f for f in analysis.findings if f.id == "undercut")
+    fold_words = f"at {fold_start:.4g}°–{fold_end:.4g}°: the envelope folds over there"
+    cut_words = f"departs from the design at {cut_start:.4g}°–{cut_end:.4g}°"
+    assert fold_words in finding.message and cut_words in finding.message
+
+
 def test_an_undercut_cams_files_are_held_to_the_cut_cam_not_passed_unchecked() -> None:
     """The verification of an undercut cam compares the follower over the DXF read back with
     the design's motion wherever the cut cam follows it, and with the cut cam's inside the

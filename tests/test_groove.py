@@ -111,10 +111,11 @@ def exact_walls(design: Design, step_deg: float = 0.02) -> tuple[np.ndarray, np.
 
 @pytest.fixture(scope="module")
 def built(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    """Both example groove designs built once by the command line."""
+    """Both example groove designs built once by the command line, into one folder."""
     folder = tmp_path_factory.mktemp("groove")
-    result = run_cli("build", str(GOOD), str(SWING), "-o", str(folder))
-    assert result.exit_code == 0, result.output + result.stderr
+    for design in (GOOD, SWING):
+        result = run_cli("build", str(design), "-o", str(folder))
+        assert result.exit_code == 0, result.output + result.stderr
     return folder
 
 

@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from camfab.pipeline import analyse, load_design
+from camfab.pipeline import analyse, load_design, render
 
 from .conftest import DESIGN_FILES, DESIGNS, run_cli
 
@@ -45,13 +45,19 @@ ELIGIBLE = {p.stem: f for p in DESIGN_FILES if (f := _eligible(p)) is not None}
 
 @pytest.fixture(scope="module")
 def built(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, dict[str, dict[str, float]]]:
-    """Every eligible example design built once (DXF and motion table) into one folder."""
+    """Every eligible example design built once (DXF and motion table), each into its own
+    folder ``NAME/`` of one folder, as a batch build writes them."""
     folder = tmp_path_factory.mktemp("built")
     facts = ELIGIBLE
     paths = [str(DESIGNS / f"{name}.yaml") for name in facts]
     result = run_cli("build", "-j", "4", *paths, "-o", str(folder))
     assert result.exit_code in (0, 1), result.output + result.stderr
     return folder, facts
+
+
+def _own(folder: Path, name: str) -> Path:
+    """The plate outline of the example design *name* in the batch build's *folder*."""
+    return folder / name / f"{name}.dxf"
 
 
 def _read_csv(path: Path) -> dict[str, np.ndarray]:
@@ -79,15 +85,15 @@ def test_own_dxf_reproduces_the_design_lift(built, tmp_path: Path, name: str) ->
     folder, facts = built
     path = DESIGNS / f"{name}.yaml"
     tolerance, arm = facts[name]["tolerance"], facts[name]["arm"]
-    dxf = folder / f"{name}.dxf"
+    dxf = folder / name / f"{name}.dxf"
     if not dxf.exists():  # a conjugate pair: cam a is the design's own cam
-        dxf = folder / f"{name}-a.dxf"
+        dxf = folder / name / f"{name}-a.dxf"
     code, report, table, err = _inspect(tmp_path, dxf, "--design", str(path))
     assert code == 0, err
     assert report["deviation"]["max_mm"] <= tolerance
     assert report["deviation"]["within_tolerance"] is True
     # the measured lift against the design's own motion table, row by row
-    motion = _read_csv(folder / f"{name}-motion.csv")
+    motion = _read_csv(folder / name / f"{name}-motion.csv")
     if arm:
         error = np.radians(table["lift_deg"] - motion["displacement_deg"]) * arm
     else:
@@ -99,14 +105,14 @@ def test_own_dxf_reproduces_the_design_lift(built, tmp_path: Path, name: str) ->
 def test_laser_file_kerf_is_taken_off_from_the_drawing_note(built, tmp_path: Path) -> None:
     folder, _ = built
     design = DESIGNS / "demo-laser-kerf.yaml"
-    code, report, _, _ = _inspect(tmp_path, folder / "demo-laser-kerf.dxf", "--design",
+    code, report, _, _ = _inspect(tmp_path, _own(folder, "demo-laser-kerf"), "--design",
                                   str(design))
     assert code == 0
     assert report["profile"]["kerf_mm"] == pytest.approx(0.2)
     # the beam's path itself is the part grown by kerf/2: on the base-circle dwell the roller
     # (radius 8 mm, offset 4 mm, base radius 30 mm) rides kerf/2 along its radius, so
     # 0.1 mm / cos φ higher along its line of motion, cos φ = √(38² − 4²)/38
-    code, report, table, _ = _inspect(tmp_path, folder / "demo-laser-kerf.dxf", "--design",
+    code, report, table, _ = _inspect(tmp_path, _own(folder, "demo-laser-kerf"), "--design",
                                       str(design), "--kerf", "0")
     assert code == 1
     dwell = (table["cam_angle_deg"] > 300) & (table["cam_angle_deg"] < 355)
@@ -204,6 +210,35 @@ def _roller_on_eccentric(theta_deg: np.ndarray, roller: float) -> np.ndarray:
     return cy + np.sqrt((60.0 + roller) ** 2 - cx**2) - (22.5 + roller)
 
 
+def test_a_clean_scan_with_a_gauges_noise_passes_the_inspection_tolerance(
+        tmp_path: Path) -> None:
+    """A scan of a true part carries its instrument's noise (2 µm here): held to the export
+    tolerance (1 µm: how closely the files follow the exact curve) it would fail; the
+    inspection tolerance is its own, ±0.025 mm by default, and a design can set it; the
+    report's lift table gives the inspector that band."""
+    rng = np.random.default_rng(7)
+    xy = _eccentric_points()
+    radius = np.hypot(xy[:, 0], xy[:, 1] + 37.5)
+    noisy = xy + (rng.uniform(-0.002, 0.002, len(xy)) / radius)[:, None] * np.column_stack(
+        (xy[:, 0], xy[:, 1] + 37.5))
+    scan = _write_points(tmp_path / "scan.csv", noisy)
+    code, report, _, err = _inspect(tmp_path, scan, "--design", str(ECCENTRIC))
+    assert code == 0, err
+    assert report["design"]["tolerance_mm"] == 0.025
+    assert 0.001 < report["deviation"]["max_mm"] < 0.025
+    tight = tmp_path / "tight.yaml"
+    tight.write_text(ECCENTRIC.read_text() + "inspection: {tolerance: 0.001}\n")
+    code, report, _, err = _inspect(tmp_path, scan, "--design", str(tight))
+    assert code == 1 and report["design"]["tolerance_mm"] == 0.001
+    # the build's lift table: the band is the inspection tolerance over cos φ (a flat face: 0)
+    files = render(analyse(load_design(ECCENTRIC))).files
+    table = json.loads(files["seed-jump-eccentric-report.json"])["lift_table"]
+    assert table["inspection_tolerance_mm"] == 0.025
+    assert {row[2] for row in table["rows"]} == {0.025}
+    assert "the inspection tolerance, ±0.025 mm" in files[
+        "seed-jump-eccentric-report.html"].decode()
+
+
 def test_csv_of_points_and_another_inspection_roller(tmp_path: Path) -> None:
     points = _write_points(tmp_path / "scan.csv", _eccentric_points(), header="X;Y")
     points.write_text(points.read_text().replace(",", ";"))
@@ -231,7 +266,7 @@ def test_csv_of_points_and_another_inspection_roller(tmp_path: Path) -> None:
 
 def test_own_dxf_with_another_roller_against_the_closed_form(built, tmp_path: Path) -> None:
     folder, _ = built
-    code, report, table, err = _inspect(tmp_path, folder / "seed-jump-eccentric.dxf",
+    code, report, table, err = _inspect(tmp_path, _own(folder, "seed-jump-eccentric"),
                                         "--design", str(ECCENTRIC), "--type", "roller",
                                         "--roller-radius", "12.5")
     assert code == 0, err
@@ -244,7 +279,7 @@ def test_without_a_design_the_follower_comes_from_a_file(built, tmp_path: Path) 
     folder, _ = built
     (tmp_path / "dial.yaml").write_text("units: mm\nrotation: ccw\nspeed_rpm: 1000\n"
                                         "follower: {type: roller, offset: 10, roller_radius: 7}\n")
-    code, report, table, err = _inspect(tmp_path, folder / "seed-10-4.dxf",
+    code, report, table, err = _inspect(tmp_path, _own(folder, "seed-10-4"),
                                         "--follower", str(tmp_path / "dial.yaml"))
     assert code == 0, err
     assert report["deviation"] is None and report["design"] is None
@@ -255,7 +290,7 @@ def test_without_a_design_the_follower_comes_from_a_file(built, tmp_path: Path) 
     v_max = math.pi / 2 * 40 * (1000 * math.pi / 30) / math.radians(120) / 1000
     assert np.max(table["velocity_m_s"]) == pytest.approx(v_max, rel=0.01)
     # the command line gives the same follower
-    code, report2, _, _ = _inspect(tmp_path, folder / "seed-10-4.dxf", "--type", "roller",
+    code, report2, _, _ = _inspect(tmp_path, _own(folder, "seed-10-4"), "--type", "roller",
                                    "--roller-radius", "7", "--offset", "10")
     assert code == 0 and report2["motion"]["max_lift_mm"] == report["motion"]["max_lift_mm"]
 
@@ -344,7 +379,7 @@ def test_bad_input_exits_2_with_one_line_and_writes_nothing(tmp_path: Path, case
 
 def test_oscillating_follower_from_the_command_line(built, tmp_path: Path) -> None:
     folder, _ = built
-    code, report, table, err = _inspect(tmp_path, folder / "seed-10-3-oscillating.dxf",
+    code, report, table, err = _inspect(tmp_path, _own(folder, "seed-10-3-oscillating"),
                                         "--type", "roller", "--roller-radius", "10",
                                         "--pivot-distance", "55", "--arm-length", "45")
     assert code == 0, err
@@ -368,7 +403,7 @@ def test_a_follower_file_is_read_within_the_design_limits(built, tmp_path: Path,
     """A follower file is refused, quickly and on its line, where a design would be."""
     folder, _ = built
     (tmp_path / "dial.yaml").write_text(text)
-    code, _, _, err = _inspect(tmp_path, folder / "seed-10-4.dxf",
+    code, _, _, err = _inspect(tmp_path, _own(folder, "seed-10-4"),
                                "--follower", str(tmp_path / "dial.yaml"))
     assert code == 2 and said in err and "dial.yaml" in err and len(err.splitlines()) == 1
     assert not (tmp_path / "out").exists()

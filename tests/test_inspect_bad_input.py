@@ -34,10 +34,11 @@ _RUNS = itertools.count()
 
 @pytest.fixture(scope="module")
 def built(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    """seed-10-4 and demo-laser-kerf built once (their DXFs)."""
+    """seed-10-4 and demo-laser-kerf built once (their DXFs), into one folder."""
     folder = tmp_path_factory.mktemp("built")
-    result = run_cli("build", str(SEED), str(LASER), "-o", str(folder))
-    assert result.exit_code in (0, 1), result.output + result.stderr
+    for design in (SEED, LASER):
+        result = run_cli("build", str(design), "-o", str(folder))
+        assert result.exit_code in (0, 1), result.output + result.stderr
     return folder
 
 

@@ -504,12 +504,13 @@ def _names_the_culprit(line: str, case: Case) -> bool:
 
 @pytest.fixture(scope="module")
 def own_drawings(tmp_path_factory: pytest.TempPathFactory) -> list[bytes]:
-    """camfab's own drawings (a plain and a laser-kerf one), built once."""
+    """camfab's own drawings (a plain and a laser-kerf one), built once (a batch: each in
+    a folder of its own)."""
     folder = tmp_path_factory.mktemp("own")
     designs = [SEED_DESIGN, DESIGNS / "demo-laser-kerf.yaml"]
     result = run_cli("build", *(str(d) for d in designs), "-o", str(folder))
     assert result.exit_code in (0, 1), result.output + result.stderr
-    return [(folder / f"{d.stem}.dxf").read_bytes() for d in designs]
+    return [(folder / d.stem / f"{d.stem}.dxf").read_bytes() for d in designs]
 
 
 def test_inspect_survives_generated_and_mutated_files(tmp_path: Path,

@@ -59,11 +59,14 @@ def test_evaluation_at_a_step_gives_the_value_after_it() -> None:
      ("modified-sine", {"jerk"}), ("polynomial-4567", set())],
 )
 def test_continuity_class_next_to_dwells(law: str, expected: set[str]) -> None:
-    """THEORY §A: the continuity class of each law between dwells."""
+    """THEORY §A: the continuity class of each law between dwells. A step in velocity or
+    acceleration fails its check; a step in jerk is reported but passes (every law short of
+    the 4-5-6-7 polynomial's steps it next to a dwell)."""
     d = design([{"rise": {"angle": 90, "lift": 20, "law": law}}, {"dwell": {"angle": 90}},
                 {"return": {"angle": 90, "law": law}}, {"dwell": {"angle": 90}}])
-    found = {q for q, f in continuity(d).items() if not f.ok}
+    found = {q for q, f in continuity(d).items() if f.ranges_deg}
     assert found == expected
+    assert {q for q, f in continuity(d).items() if not f.ok} == expected - {"jerk"}
     if "velocity" in expected:
         finding = continuity(d)["velocity"]
         assert finding.severity == "error"
@@ -217,4 +220,4 @@ def test_random_programs_are_periodic_and_continuity_is_reported(motion, kind) -
     for order, name in ((1, "velocity"), (2, "acceleration"), (3, "jerk")):
         listed = {round(r[0], 6) for r in findings[name].ranges_deg}
         assert listed == {a for a, o in steps if o == order}
-        assert findings[name].ok == (not listed)
+        assert findings[name].ok == (not listed or name == "jerk")  # a jerk step passes

@@ -26,7 +26,7 @@ from camfab.analysis.sizing import Sizing
 from camfab.design import Design
 from camfab.design.loader import unsized_design
 from camfab.errors import DesignError
-from camfab.pipeline import analyse, build, design_from_text, size_design
+from camfab.pipeline import analyse, build, design_from_text, load_design, size_design
 
 from .conftest import DESIGNS, run_cli
 
@@ -330,7 +330,11 @@ def test_camfab_size_says_when_no_size_meets_the_limits(tmp_path: Path) -> None:
 
 
 def test_camfab_size_refuses_what_it_does_not_size(tmp_path: Path) -> None:
-    for args, words in ((["new-tangent"], "cannot be sized: its shape sets its motion"),
+    for args, words in ((["new-tangent"], "cam.type: a tangent cam is not sized: its shape sets "
+                                          "its motion; camfab sizes the base radius of disc, "
+                                          "groove, conjugate cams and the radius of cylindrical"),
+                        (["globoidal"], "cam.type: a globoidal cam is not sized; camfab sizes"),
+                        (["linear"], "cam.type: a linear cam is not sized; camfab sizes"),
                         (["oscillating", "--offset"], "an oscillating follower has no offset"),
                         (["disc-roller", "--pivot"], "--pivot")):
         kind = args[0].removeprefix("new-")
@@ -338,6 +342,35 @@ def test_camfab_size_refuses_what_it_does_not_size(tmp_path: Path) -> None:
         result = run_cli("size", str(path), *args[1:])
         assert result.exit_code == 2, result.output
         assert words in result.output, result.output
+        if "cam.type" in words:  # on the line of the key it names (not one the design lacks)
+            number = int(result.output.split(":")[1])
+            assert path.read_text().splitlines()[number - 1].strip().startswith("type:")
+
+
+def test_camfab_size_says_what_a_limit_on_the_size_itself_asks() -> None:
+    """A wall round the bore, the export tolerance: limits on the radius being sized, said as
+    the least radius they allow, not as a check whose value is the size."""
+    result = run_cli("size", str(DESIGNS / "demo-auto-size.yaml"))
+    assert result.exit_code == 0, result.output
+    assert "✔ bore: a 1 mm wall round the bore: a size of at least 6.0000 mm" in result.output
+    assert "✔ tolerance: the export tolerance: a size of more than 0.0010 mm" in result.output
+
+
+def test_a_symmetric_motions_best_offset_is_zero(tmp_path: Path) -> None:
+    """seed-poly-345's rise and return mirror each other: the best offset is 0, not the
+    golden-section search's last digit (−0.0002 mm)."""
+    result = run_cli("size", str(DESIGNS / "seed-poly-345.yaml"), "--offset")
+    assert result.exit_code == 0, result.output
+    assert "with the offset 0.0000 mm" in result.output
+
+
+def test_advice_at_the_best_offset_names_no_other() -> None:
+    """demo-undercut's symmetric program is at its best offset (0): the advice says so rather
+    than offering the same size "with the offset 0.0000 mm"."""
+    analysis = analyse(load_design(DESIGNS / "demo-undercut.yaml"))
+    message = next(f.message for f in analysis.findings if f.id == "undercut")
+    assert "passes with this offset, which is about the best (camfab size --offset)" in message
+    assert "with the offset 0.0000 mm" not in message
 
 
 def test_auto_where_camfab_does_not_size_is_a_clear_error(tmp_path: Path) -> None:
@@ -402,3 +435,24 @@ def test_a_radius_sized_to_the_bore_passes_the_rules_exactly(tmp_path: Path, kin
     design = design_from_text(yaml.safe_dump(data))
     assert design.sized is not None and design.sized.governed_by == "bore"
     assert getattr(design.cam, key) == pytest.approx(half + extra, abs=1e-9)
+
+
+def test_a_flat_face_is_never_sized_to_a_point(tmp_path: Path) -> None:
+    """A flat face's profile ρ = Rb + s + s″ only has to stay above zero for its envelope not
+    to fold: its sizing used to stop at a pointed cam (ρ of some 1e-5 mm) that passed every
+    check. Without limits.min_radius_of_curvature a flat or mushroom face keeps the default 1 mm
+    (its closed form: Rb ≥ 1 − min(s + s″)); a cam sharper than that fails; 0 given asks for
+    none."""
+    data = starter("disc-flat")
+    data["cam"]["base_radius"] = "auto"
+    built = analyse(design_from_text(yaml.safe_dump(data)))
+    _, m = _motion(built.design.program, 1)
+    assert built.design.cam.base_radius == pytest.approx(1.0 - float(np.min(m[0] + m[2])),
+                                                         abs=1e-5)
+    profile = built.result.numbers.profile_min_convex.value  # type: ignore[attr-defined]
+    assert profile == pytest.approx(1.0, abs=1e-5) and built.exit_code == 0
+    sharp = starter("disc-flat")
+    sharp["cam"]["base_radius"] = 1.0 - float(np.min(m[0] + m[2])) - 0.5
+    assert "curvature" in _failed(sharp)
+    sharp["limits"] = {"min_radius_of_curvature": 0}
+    assert "curvature" not in _failed(sharp)

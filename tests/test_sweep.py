@@ -142,11 +142,10 @@ def test_each_row_is_the_variants_design_analysed_on_its_own(tmp_path: Path) -> 
 
         report = json.loads(render_report_json(analysis))
         geometry = report["geometry"]
-        # (the report's numbers carry 12 digits)
-        assert math.isclose(float(r["pressure_angle_max_deg"]),
-                            geometry["pressure_angle_max_deg"], rel_tol=1e-10)
-        assert math.isclose(float(r["profile_min_radius_of_curvature_mm"]),
-                            geometry["profile_min_radius_of_curvature_mm"], rel_tol=1e-10)
+        # the report's numbers, to the 12 digits both carry: 20, not 19.999999999999996
+        assert float(r["pressure_angle_max_deg"]) == geometry["pressure_angle_max_deg"]
+        assert float(r["profile_min_radius_of_curvature_mm"]) == geometry[
+            "profile_min_radius_of_curvature_mm"]
         assert (r["undercut"] == "true") == geometry["undercut"]
         peak = max(s["max_velocity_m_s"] for s in report["segments"])
         assert math.isclose(float(r["max_velocity"]), peak, rel_tol=1e-10)
@@ -238,17 +237,21 @@ def test_ctrl_c_keeps_the_rows_done_so_far(tmp_path: Path) -> None:
         cwd=tmp_path, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     folder = tmp_path / "out"
     deadline = time.monotonic() + 120
-    # rows under way: the table's temporary file has grown past its first groups
+    # rows under way: the table's temporary file holds its first rows (how many, whatever the
+    # machine's speed, is counted, not assumed)
+    done = 0
     while time.monotonic() < deadline:
         temps = list(folder.glob(".seed-10-4-sweep.csv.*.tmp")) if folder.exists() else []
-        if temps and temps[0].stat().st_size > 200_000:
+        if temps and temps[0].stat().st_size > 20_000:
+            done = temps[0].read_bytes().count(b"\n") - 1  # whole rows, past the header
             break
         time.sleep(0.1)
+    assert done > 0, "the sweep wrote no row in two minutes"
     process.send_signal(signal.SIGINT)
     out, err = process.communicate(timeout=120)
     assert process.returncode == 130, out + err
     rows = table(folder / "seed-10-4-sweep.csv")
-    assert 4096 <= len(rows) < 60_001
+    assert done <= len(rows) < 60_001  # every row written before the signal is kept
     assert [int(r["variant"]) for r in rows] == list(range(len(rows)))  # whole, in order
     assert "stopped after" in out
     page = (folder / "seed-10-4-sweep.html").read_text()

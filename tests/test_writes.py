@@ -207,7 +207,7 @@ def test_two_designs_of_one_name_in_a_batch_are_not_both_written(tmp_path: Path)
         "write the same files (give each design its own name)")
     assert "seed-poly-345  INVALID" in result.stdout
     assert "seed-poly-345  OK" in result.stdout
-    assert (tmp_path / "out" / "seed-poly-345.dxf").is_file()
+    assert (tmp_path / "out" / "seed-poly-345" / "seed-poly-345.dxf").is_file()
 
 
 # ---- the user's environment --------------------------------------------------------------------

@@ -24,7 +24,9 @@ from camfab.motion.program import MotionProgram
 class CurveNumbers:
     """The key numbers every plate cam has (mm, deg): the smallest convex and concave radii of
     the pitch and working curves, the largest pressure angle over the cycle and per segment
-    (:func:`curve_extremes`), and where the envelope is undercut."""
+    (:func:`curve_extremes`), and where the envelope is undercut: where it folds over
+    (``fold_ranges``: the curvature says so), where the cam as cut departs from the design
+    (``cut_ranges``: the envelope's points its trimmed outline has lost), and both together."""
 
     pitch_min_convex: Extreme
     pitch_min_concave: Extreme
@@ -33,6 +35,8 @@ class CurveNumbers:
     pressure_angle: Extreme
     segment_pressure: list[Extreme]
     undercut_ranges: tuple[Range, ...]
+    fold_ranges: tuple[Range, ...]
+    cut_ranges: tuple[Range, ...]
 
 
 @dataclass(frozen=True)
@@ -71,12 +75,14 @@ def cam_numbers(geom: DiscGeometry, segment_count: int) -> CamNumbers:
     contact = None
     if dense.face_contact is not None:
         contact = (float(dense.face_contact.min()), float(dense.face_contact.max()))
-    undercut = merge([*ranges_deg(theta, geom.folds),
-                      *ranges_deg(geom.working.theta, geom.cut)])
+    folds = ranges_deg(theta, geom.folds)
+    cut = ranges_deg(geom.working.theta, geom.cut)
     return CamNumbers(
         max_radius_mm=float(np.max(geom.profile.radii())),
         face_contact_mm=contact,
-        undercut_ranges=undercut,
+        undercut_ranges=merge([*folds, *cut]),
+        fold_ranges=merge(list(folds)),
+        cut_ranges=merge(list(cut)),
         **curve_extremes(theta, dense.pitch.radius, dense.working.radius, geom.folds,
                          dense.pressure_angle, dense.segment, segment_count),
     )
@@ -132,10 +138,23 @@ def pressure_angle_finding(design: Design, geom: DiscGeometry, numbers: CamNumbe
         value, limit, "deg", over)
 
 
+def departure_words(numbers: CurveNumbers, what: str = "cam") -> str:
+    """Where the cam as cut (its envelope's loops trimmed) departs from the design, in words:
+    a range of its own, apart from where the envelope folds."""
+    if not numbers.cut_ranges:
+        return ""
+    return (f"; the {what} as cut, its loops trimmed away, departs from the design at "
+            f"{where(numbers.cut_ranges)}")
+
+
 def undercut_finding(design: Design, geom: DiscGeometry, numbers: CamNumbers) -> Finding:
-    """Does the follower's envelope fold over (or cross itself)? With the motion error it causes."""
+    """Does the follower's envelope fold over (or cross itself)? With the motion error it causes:
+    where the envelope folds and where the cam as cut departs from the design are two ranges
+    (the second wider: the trimmed outline bridges the fold), said apart."""
     fol = design.follower
     ranges = numbers.undercut_ranges
+    folds = numbers.fold_ranges or ranges
+    departs = departure_words(numbers)
     motion = (f"the cam that is really cut moves the follower up to "
               f"{fmt(geom.lift.max_mm)} mm off the design at {fmt(geom.lift.at_deg)}°")
     if fol.type == "flat":
@@ -154,7 +173,7 @@ def undercut_finding(design: Design, geom: DiscGeometry, numbers: CamNumbers) ->
         rho = "ρ" if fol.oscillating else "ρ = Rb + s + s″"
         return Finding("undercut", False, "error",
                        f"the flat face's envelope has a cusp (its radius of curvature {rho} falls "
-                       f"to {fmt(value or 0.0)} mm) at {where(ranges)}: {motion}{need}",
+                       f"to {fmt(value or 0.0)} mm) at {where(folds)}{departs}: {motion}{need}",
                        value, 0.0, "mm", ranges)
     radius = fol.trace_radius
     smallest = numbers.pitch_min_convex
@@ -169,21 +188,22 @@ def undercut_finding(design: Design, geom: DiscGeometry, numbers: CamNumbers) ->
     what = "roller" if fol.type == "roller" else "mushroom face"
     if geom.folds.any() and value is not None:
         cause = (f"the {what} radius {fmt(radius)} mm exceeds the pitch curve's convex radius "
-                 f"of curvature (down to {fmt(value)} mm) at {where(ranges)}: the envelope "
-                 f"folds over and is cut away")
+                 f"of curvature (down to {fmt(value)} mm) at {where(numbers.fold_ranges)}: the "
+                 f"envelope folds over there{departs}")
         need = (f"a {what} radius below {fmt(value)} mm, a larger base radius or a longer rise "
                 f"or return avoids it")
     else:
-        cause = (f"the {what}'s envelope crosses itself at {where(ranges)}: the {what} cannot "
-                 f"reach into a sharp hollow of the pitch curve (a velocity step makes one)")
+        cause = (f"the {what}'s envelope crosses itself: the {what} cannot reach into a sharp "
+                 f"hollow of the pitch curve (a velocity step makes one){departs}")
         need = "a motion law without a velocity step or a smaller radius avoids it"
     return Finding("undercut", False, "error", f"{cause}; {motion}; {need}",
                    value, radius, "mm", ranges)
 
 
 def curvature_finding(design: Design, geom: DiscGeometry, numbers: CamNumbers) -> Finding | None:
-    """The convex working curve against ``limits.min_radius_of_curvature`` (when set)."""
-    margin = design.limits.min_radius_of_curvature
+    """The convex working curve against its least radius (``limits.min_radius_of_curvature``,
+    or a flat or mushroom face's default: :attr:`~camfab.design.Design.min_profile_radius`)."""
+    margin = design.min_profile_radius
     if margin <= 0.0:
         return None
     smallest = numbers.profile_min_convex

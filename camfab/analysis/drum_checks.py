@@ -135,7 +135,7 @@ def drum_problem(design: Design, grid_pair: tuple[Grid, Grid]) -> SizeProblem:
     stress = stress_limit(design, grid_pair)
 
     def evaluate(radius: float, fine: bool, until: bool = False) -> list[LimitValue]:
-        fit = [LimitValue(key, what, radius >= need, radius, need, least=need)
+        fit = [LimitValue(key, what, radius >= need, radius, need, least=need, of_size=True)
                for key, what, need in needs]
         if not all(limit.ok for limit in fit):
             return fit

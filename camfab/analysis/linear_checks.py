@@ -37,11 +37,13 @@ def linear_numbers(geom: LinearGeometry, segment_count: int) -> LinearNumbers:
     theta = dense.theta
     working = geom.working
     within = (working.theta >= 0.0) & (working.theta < 2.0 * math.pi)
-    undercut = merge([*ranges_deg(theta, geom.folds),
-                      *ranges_deg(working.theta[within], geom.cut[within])])
+    folds = ranges_deg(theta, geom.folds)
+    cut = ranges_deg(working.theta[within], geom.cut[within])
     return LinearNumbers(
         max_height_mm=float(np.max(geom.outline_points()[:, 1])),
-        undercut_ranges=undercut,
+        undercut_ranges=merge([*folds, *cut]),
+        fold_ranges=merge(list(folds)),
+        cut_ranges=merge(list(cut)),
         **curve_extremes(theta, dense.pitch.radius, dense.working.radius, geom.folds,
                          dense.pressure_angle, dense.segment, segment_count),
     )
@@ -113,16 +115,20 @@ def undercut_finding(design: Design, geom: LinearGeometry, numbers: LinearNumber
         return Finding("undercut", True, "error", message, value, radius, "mm")
     motion = (f"the plate that is really cut moves the follower up to {fmt(geom.lift.max_mm)} "
               f"mm off the design at {_at(stroke, geom.lift.at_deg)}")
+    departs = ("" if not numbers.cut_ranges else
+               f"; the plate as cut, its loops trimmed away, departs from the design at "
+               f"{where_travel(stroke, numbers.cut_ranges)}")
     if geom.folds.any() and value is not None:
         cause = (f"the roller radius {fmt(radius)} mm exceeds the pitch curve's convex radius "
-                 f"of curvature (down to {fmt(value)} mm) at {where_travel(stroke, ranges)}: "
-                 f"the envelope folds over and is cut away")
+                 f"of curvature (down to {fmt(value)} mm) at "
+                 f"{where_travel(stroke, numbers.fold_ranges)}: the envelope folds over "
+                 f"there{departs}")
         need = (f"a roller radius below {fmt(value)} mm or a longer travel for the rise or "
                 f"return avoids it")
     else:
-        cause = (f"the roller's envelope crosses itself at {where_travel(stroke, ranges)}: the "
-                 f"roller cannot follow a sharp crest of the pitch curve (a velocity step makes "
-                 f"one) and rolls over the plate's corner there instead")
+        cause = (f"the roller's envelope crosses itself: the roller cannot follow a sharp crest "
+                 f"of the pitch curve (a velocity step makes one) and rolls over the plate's "
+                 f"corner there instead{departs}")
         need = "a motion law without a velocity step avoids it"
     return Finding("undercut", False, "error", f"{cause}; {motion}; {need}", value, radius, "mm",
                    ranges)
@@ -131,7 +137,7 @@ def undercut_finding(design: Design, geom: LinearGeometry, numbers: LinearNumber
 def curvature_finding(design: Design, geom: LinearGeometry,
                       numbers: LinearNumbers) -> Finding | None:
     """The convex working curve against ``limits.min_radius_of_curvature`` (when set)."""
-    margin = design.limits.min_radius_of_curvature
+    margin = design.min_profile_radius
     if margin <= 0.0:
         return None
     smallest = numbers.profile_min_convex
@@ -235,6 +241,8 @@ def linear_report_geometry(design: Design, geom: LinearGeometry,
         "pressure_angle_limit_deg": math.degrees(design.pressure_angle_limit),
         "undercut": geom.undercut,
         "undercut_ranges_deg": [list(r) for r in numbers.undercut_ranges],
+        "undercut_fold_ranges_deg": [list(r) for r in numbers.fold_ranges],
+        "undercut_cut_ranges_deg": [list(r) for r in numbers.cut_ranges],
         "undercut_ranges_mm": [[travel_mm(stroke, a), travel_mm(stroke, b)]
                                for a, b in numbers.undercut_ranges],
         "profile_points": len(geom.outline.vertices),

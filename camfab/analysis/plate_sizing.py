@@ -167,15 +167,15 @@ def fit_limits(design: Design, follower: FollowerGeometry, base: float) -> list[
     cam = design.cam
     tolerance = design.manufacturing.tolerance
     out = [LimitValue("tolerance", "the export tolerance", base > tolerance, base, tolerance,
-                      least=tolerance)]
+                      least=tolerance, of_size=True)]
     if cam.bore is not None:
         need = wall_need(cam.bore)
         out.append(LimitValue("bore", f"a {MIN_WALL_MM:g} mm wall round the bore", base >= need,
-                              base, need, least=need))
+                              base, need, least=need, of_size=True))
         if cam.keyway is not None:
             need = wall_need(cam.bore, cam.keyway.depth)
             out.append(LimitValue("keyway", f"a {MIN_WALL_MM:g} mm wall beyond the keyway",
-                                  base >= need, base, need, least=need))
+                                  base >= need, base, need, least=need, of_size=True))
     if follower.oscillating:
         broken = oscillating_fit(follower, base, design.program.max_lift)
         out.append(LimitValue("reach", "the arm's reach" if broken is None else broken[1],
@@ -213,10 +213,9 @@ def plate_problem(design: Design, follower: FollowerGeometry, grid_pair: tuple[G
     radius grown by *clearance* mm for a groove's inner wall), with both walls of a *groove*,
     or with cam b of a conjugate pair (*partner*), its limits measured on *grid_pair* (the
     build's grid, and with the finer one)."""
-    limits = design.limits
     face_width = design.follower.face_width
     stress = stress_limit(design, grid_pair)
-    rules = CamLimits(math.degrees(design.pressure_angle_limit), limits.min_radius_of_curvature,
+    rules = CamLimits(math.degrees(design.pressure_angle_limit), design.min_profile_radius,
                       face_width, groove, stress)
     working = replace(follower, radius=follower.radius + clearance)
     sigma = design.cam.sigma

@@ -106,6 +106,9 @@ class LimitValue:
         The cam angle where the value is measured (deg), or None for a limit of the fit.
     least
         The exact size that meets it with nothing to spare, where a closed form gives it (mm).
+    of_size
+        True when the value measured is the size itself (a bore's wall, the export tolerance):
+        the limit is then the least size it allows, and says so alone.
     """
 
     id: str
@@ -117,6 +120,7 @@ class LimitValue:
     sense: Literal["max", "min"] = "min"
     at_deg: float | None = None
     least: float | None = None
+    of_size: bool = False
 
     @property
     def margin(self) -> float | None:
@@ -436,11 +440,12 @@ def size_design(design: Design, keys: frozenset[str], problem_of: ProblemOf,
             offset = 0.5 * (low + high)
         else:
             offset = search(lambda e: replace(follower, offset=e), low, high)
+        offset = _to_tolerance(offset)
         follower = replace(follower, offset=offset)
     if pivot and follower.oscillating:
         arm = follower.arm_length
-        pivot_distance = search(lambda a: replace(follower, pivot_distance=a),
-                                PIVOT_RANGE[0] * arm, PIVOT_RANGE[1] * arm)
+        pivot_distance = _to_tolerance(search(lambda a: replace(follower, pivot_distance=a),
+                                              PIVOT_RANGE[0] * arm, PIVOT_RANGE[1] * arm))
         follower = replace(follower, pivot_distance=pivot_distance)
     problem = problem_of(design, follower, build)
     found = least_size(problem)
@@ -448,6 +453,13 @@ def size_design(design: Design, keys: frozenset[str], problem_of: ProblemOf,
     if found.size is not None and step is not None:
         found = _rounded(problem, found, step)
     return Sizing(problem.key, found, offset, pivot_distance, step)
+
+
+def _to_tolerance(parameter: float) -> float:
+    """An offset or pivot distance (mm) as its search finds it, to within
+    :data:`PARAMETER_TOLERANCE_MM`, rounded to that: a symmetric motion's best offset is 0 mm,
+    not −0.0002 mm (the least size at it is measured anew)."""
+    return round(parameter / PARAMETER_TOLERANCE_MM) * PARAMETER_TOLERANCE_MM + 0.0
 
 
 def _rounded(problem: SizeProblem, found: Found, step: float) -> Found:
@@ -527,7 +539,11 @@ def advice(design: Design, problem_of: ProblemOf, failing: set[str]) -> dict[str
             best = size_design(design, frozenset({"cam.base_radius", "follower.offset"}),
                                problem_of, precise=False)
             text += " with this offset"
-            if best.size is not None and best.offset is not None:
+            if best.size is None or best.offset is None:
+                pass
+            elif fmt(best.offset, "mm") == fmt(_to_tolerance(follower.offset), "mm"):
+                text += ", which is about the best (camfab size --offset)"
+            else:
                 text += (f", and {fmt(best.size, 'mm')} with the offset {fmt(best.offset, 'mm')} "
                          "(near the least: camfab size --offset)")
     return {key: text for key in seen}

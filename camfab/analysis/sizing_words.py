@@ -35,13 +35,17 @@ def _value(design: Design, value: float | None, unit: str) -> str:
 
 
 def limit_words(design: Design, limit: LimitValue) -> str:
-    """One limit at a size: what, its value (and where), its limit."""
+    """One limit at a size: what, its value (and where), its limit; a limit on the size itself
+    (a wall round the bore), the least size it allows."""
     bound = "at most" if limit.sense == "max" else "at least"
     where = f" at {limit.at_deg:.4g}°" if limit.at_deg is not None else ""
     against = ("" if limit.limit is None else
                f" ({bound} {_value(design, limit.limit, limit.unit)})")
     if limit.value is None and limit.limit is None:
         return limit.what
+    if limit.of_size and limit.limit is not None:
+        more = "more than" if limit.id == "tolerance" else "at least"
+        return f"{limit.what}: a size of {more} {_value(design, limit.limit, limit.unit)}"
     return f"{limit.what}: {_value(design, limit.value, limit.unit)}{where}{against}"
 
 

@@ -22,12 +22,13 @@ from camfab.errors import DesignError, Location, did_you_mean
 SEGMENT_KINDS = {"rise": "rise", "return": "return", "fall": "return", "dwell": "dwell"}
 
 _TOP = ("name", "description", "units", "cam", "follower", "motion", "spring", "limits",
-        "materials", "manufacturing", "sizing", "outputs", "table_step")
+        "materials", "manufacturing", "inspection", "sizing", "outputs", "table_step")
 _SECTIONS: dict[str, tuple[str, ...]] = {
     "spring": ("rate", "preload", "initial_compression", "gravity", "damping", "external_load"),
     "limits": ("pressure_angle", "min_radius_of_curvature", "contact_stress", "roller_life"),
     "materials": ("cam", "follower"),
     "manufacturing": ("tolerance", "kerf", "cutter_radius"),
+    "inspection": ("tolerance",),
     "sizing": ("round_to",),
 }
 #: The keys a design may leave to camfab with ``auto`` (``section.key``), each where its cam
@@ -96,7 +97,7 @@ def unsized_design(path: str | Path, keys: frozenset[str]) -> tuple[Design, froz
     data = shaped.run()
     spec = CAM_TYPES.get(_text(_get(data, "cam", "type")) or "")
     if spec is not None and not spec.auto_keys:
-        _not_sized(shaped, ("cam", "base_radius"), spec)
+        _not_sizable(shaped, spec)
     asked = frozenset(k for k in keys if spec is not None and k in spec.auto_keys)
     auto = _auto_keys(data, shaped) | asked
     try:
@@ -199,6 +200,16 @@ def _auto_keys(data: dict[str, Any], shaped: _Shaper) -> frozenset[str]:
     return frozenset(found)
 
 
+def _not_sizable(shaped: _Shaper, spec: CamTypeSpec) -> NoReturn:
+    """Refuse to size a cam of a type camfab does not size, on its ``cam.type`` line."""
+    sized = {key: [name for name, row in CAM_TYPES.items() if key in row.auto_keys]
+             for key in ("cam.base_radius", "cam.radius")}
+    reason = ": its shape sets its motion" if spec.shaped else ""
+    shaped.fail(("cam", "type"), f"a {spec.name} cam is not sized{reason}; camfab sizes the "
+                f"base radius of {', '.join(sized['cam.base_radius'])} cams and the radius of "
+                f"{', '.join(sized['cam.radius'])} (drum) cams", show_got=False)
+
+
 def _not_sized(shaped: _Shaper, path: tuple[str, ...], spec: CamTypeSpec) -> NoReturn:
     key = f"{path[0]}.{path[1]}"
     sizable = [name for name, row in CAM_TYPES.items() if key in row.auto_keys]
@@ -286,7 +297,7 @@ class _Shaper:
             self.keys(_get(data, "cam", "keyway"), _KEYWAY, ("cam", "keyway"), "keyway")
         follower = data.get("follower")
         if isinstance(follower, dict):
-            self.keys(follower, _follower_keys(spec, follower), ("follower",),
+            self.keys(follower, follower_keys(spec, follower), ("follower",),
                       _follower_label(follower))
         for section, allowed in _SECTIONS.items():
             self.keys(data.get(section), allowed, (section,), section)
@@ -318,7 +329,7 @@ class _Shaper:
                 self.fail(("motion", i), f"a {key} needs its data as a mapping "
                           "(angle, lift, law)", got=body)
             self._segment_params(i, kind, body)
-            self.keys(body, _segment_keys(kind, body.get("law"), self.span), ("motion", i),
+            self.keys(body, segment_keys(kind, body.get("law"), self.span), ("motion", i),
                       f"a {kind}")
             for end in ("start", "end"):
                 self.keys(body.get(end), _CONDITIONS, ("motion", i, end), "boundary conditions")
@@ -330,7 +341,7 @@ class _Shaper:
 
     def _segment_params(self, i: int, kind: str, body: dict[str, Any]) -> None:
         """Parameters that belong to other laws, named as such rather than as unknown keys."""
-        allowed = _segment_keys(kind, body.get("law"), self.span)
+        allowed = segment_keys(kind, body.get("law"), self.span)
         for key in body:
             if key in allowed:
                 continue
@@ -391,7 +402,7 @@ class _Shaper:
             self.fail(path, f"cannot read the table: {name} is not a UTF-8 text file")
 
 
-def _follower_keys(spec: CamTypeSpec | None, follower: dict[str, Any]) -> tuple[str, ...]:
+def follower_keys(spec: CamTypeSpec | None, follower: dict[str, Any]) -> tuple[str, ...]:
     """The keys the *follower* section takes: its type's and motion's, and its cam type's."""
     ftype = _text(follower.get("type"))
     ftype = "mushroom" if ftype == "spherical" else ftype
@@ -424,7 +435,7 @@ def _follower_label(follower: dict[str, Any]) -> str:
     return f"{article} {motion} {_text(follower.get('type')) or ''} follower"
 
 
-def _segment_keys(kind: str, law: Any, span: str = "angle") -> tuple[str, ...]:
+def segment_keys(kind: str, law: Any, span: str = "angle") -> tuple[str, ...]:
     """The keys a segment takes: its *span* (an angle, or a sliding cam's travel), and its
     law's."""
     if kind == "dwell":

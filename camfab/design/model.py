@@ -320,14 +320,26 @@ class Spring(Frozen):
         return value
 
 
+#: The least convex radius of curvature (mm) of a profile a flat or mushroom face rides, where
+#: the design gives no ``limits.min_radius_of_curvature``. A radius near zero is an edge, not a
+#: curve: the face bears on a sliver of it (its Hertz stress without bound), wears it flat in its
+#: first hours, and no finishing pass holds its shape — a cusp in all but name, which would
+#: otherwise pass the undercut check as long as the radius stays above zero (a flat face's
+#: sizing drives it there). 1 mm allows miniature cams and stays well under the 3 mm nose of the
+#: source notes' exhaust-valve cam, the sharpest real profile among them. A roller's or a knife's
+#: profile is held by the undercut check (its pitch curve against the roller) instead.
+DEFAULT_FACE_MIN_RADIUS_MM = 1.0
+
+
 class Limits(Frozen):
-    """Design limits: ``pressure_angle`` (rad; default 30° translating, 35° oscillating), an
-    extra ``min_radius_of_curvature`` margin (mm) on the convex working curve, the allowed
+    """Design limits: ``pressure_angle`` (rad; default 30° translating, 35° oscillating), the
+    least ``min_radius_of_curvature`` (mm) of the convex working curve (default
+    :data:`DEFAULT_FACE_MIN_RADIUS_MM` under a flat or mushroom face, none else), the allowed
     Hertz ``contact_stress`` (MPa) and the least ``roller_life`` (hours); the last two are
     checked only where given."""
 
     pressure_angle: PositiveAngle | None = None
-    min_radius_of_curvature: NonNegativeLength = 0.0
+    min_radius_of_curvature: NonNegativeLength | None = None
     contact_stress: Annotated[float, _as(U.STRESS), Field(gt=0)] | None = None
     roller_life: Annotated[float, _as(U.DURATION), Field(gt=0)] | None = None
 
@@ -422,6 +434,24 @@ class Sized(Frozen):
     rounded_to: float | None = None
 
 
+#: The tolerance a made cam's profile is inspected to when the design gives none (mm): ±0.025 mm
+#: (±0.001 in), what a finish-milled or ground cam profile is commonly held to — some five times
+#: a good dial gauge's or CMM's uncertainty (2–5 µm), so a clean part passes whatever the
+#: instrument's noise, and well inside what a follower feels. Not the export tolerance (0.001 mm:
+#: how closely the files follow the exact curves, far finer than any part is made or measured);
+#: a 3-D printed prototype asks for some 0.1–0.2 mm (``inspection: {tolerance: 0.15}``).
+DEFAULT_INSPECTION_TOLERANCE_MM = 0.025
+#: The same for a design in inches: ±0.001 in.
+DEFAULT_INSPECTION_TOLERANCE_IN = 0.001
+
+
+class Inspection(Frozen):
+    """How a made cam is inspected (``camfab inspect``, the report's lift table): the
+    ``tolerance`` (mm) its profile's deviation is held to."""
+
+    tolerance: PositiveLength | None = None
+
+
 class Manufacturing(Frozen):
     """Manufacturing settings (mm): export ``tolerance``, laser ``kerf``, CNC ``cutter_radius``."""
 
@@ -445,6 +475,7 @@ class Design(Frozen):
     limits: Limits = Limits()
     materials: Materials = Materials()
     manufacturing: Manufacturing = Manufacturing()
+    inspection: Inspection = Inspection()
     outputs: tuple[OutputName, ...] | None = None
     table_step: PositiveAngle = math.radians(1.0)
     sizing: SizingOptions = SizingOptions()
@@ -477,6 +508,26 @@ class Design(Frozen):
         if self.limits.pressure_angle is not None:
             return self.limits.pressure_angle
         return math.radians(35.0 if self.follower.oscillating else 30.0)
+
+    @property
+    def inspection_tolerance(self) -> float:
+        """The tolerance (mm) a made cam's profile is inspected to: ``inspection.tolerance``, or
+        :data:`DEFAULT_INSPECTION_TOLERANCE_MM` (±0.001 in for a design in inches)."""
+        if self.inspection.tolerance is not None:
+            return self.inspection.tolerance
+        if self.units == "in":
+            return DEFAULT_INSPECTION_TOLERANCE_IN * self.mm_per_unit
+        return DEFAULT_INSPECTION_TOLERANCE_MM
+
+    @property
+    def min_profile_radius(self) -> float:
+        """The least convex radius of curvature of the profile (mm): ``limits.
+        min_radius_of_curvature``, or :data:`DEFAULT_FACE_MIN_RADIUS_MM` for a flat or mushroom
+        face (0: none, for a roller or a knife, whose undercut check holds the profile)."""
+        given = self.limits.min_radius_of_curvature
+        if given is not None:
+            return given
+        return DEFAULT_FACE_MIN_RADIUS_MM if self.follower.type in ("flat", "mushroom") else 0.0
 
     @property
     def contact_length(self) -> float | None:

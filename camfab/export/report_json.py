@@ -76,7 +76,7 @@ def sizing_dict(design: Design) -> dict[str, Any] | None:
 
 def lift_table(analysis: Analysis) -> dict[str, Any]:
     """The lift at every ``table_step`` of cam angle, for inspection with a dial gauge on the
-    follower, and the band an inspector holds it to: the export tolerance met along the
+    follower, and the band an inspector holds it to: the inspection tolerance met along the
     profile's normal moves the follower by tolerance / cos φ (an oscillating arm by that over
     its length, in degrees)."""
     from camfab.export.motion_csv import motion_table
@@ -87,11 +87,12 @@ def lift_table(analysis: Analysis) -> dict[str, Any]:
     phi = (table[:, columns.index("pressure_angle_deg")] if "pressure_angle_deg" in columns
            else np.zeros(theta.size))
     cosine = np.maximum(np.cos(np.radians(np.nan_to_num(phi))), 0.01)
-    band = design.manufacturing.tolerance / cosine
+    band = design.inspection_tolerance / cosine
     unit = "deg" if units.oscillating else "mm"
     if units.oscillating:
         band = np.degrees(band / (design.follower.arm_length or 1.0))
     return {"step_deg": math.degrees(design.table_step), "unit": unit,
+            "inspection_tolerance_mm": design.inspection_tolerance,
             "columns": ["cam_angle_deg", f"lift_{unit}", f"tolerance_{unit}"],
             "rows": np.column_stack((theta, lift, band)).round(6).tolist()}
 

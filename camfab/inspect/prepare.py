@@ -59,7 +59,7 @@ def prepare(options: InspectOptions) -> Prepared:
         tolerance = length("tolerance", extra["tolerance"], units, str(options.follower_file),
                            positive=True)
     if tolerance is None and design is not None:
-        tolerance = design.manufacturing.tolerance
+        tolerance = design.inspection_tolerance
     rotation = options.rotation or extra.get("rotation") or (
         design.cam.rotation if design else "ccw")
     if rotation not in ("ccw", "cw"):

@@ -66,6 +66,8 @@ class PlateResult(CamResult):
             "offset_side_lowering_rise_pressure_angle": offset_side(design),
             "undercut": geom.undercut,
             "undercut_ranges_deg": [list(r) for r in numbers.undercut_ranges],
+            "undercut_fold_ranges_deg": [list(r) for r in numbers.fold_ranges],
+            "undercut_cut_ranges_deg": [list(r) for r in numbers.cut_ranges],
             "profile_points": len(geom.profile.vertices),
             "sampling_tolerance_mm": geom.tolerance,
         }

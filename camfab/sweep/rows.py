@@ -180,8 +180,12 @@ def least_size(design: Any) -> float | None:
 
 
 def _number(value: Any) -> float | None:
-    """*value* as a float (None, NaN and infinities as None: a table has no room for them)."""
+    """*value* as a float to 12 significant digits, as the JSON report gives it (far below any
+    tolerance: 20 mm, not 19.999999999999996); None, NaN and infinities as None (a table has no
+    room for them)."""
     if value is None:
         return None
     number = float(value)
-    return number if number == number and abs(number) != float("inf") else None
+    if number != number or abs(number) == float("inf"):
+        return None
+    return float(f"{number:.12g}")

@@ -2,7 +2,8 @@
 or CSV, to a temporary file renamed into place when the sweep ends or is stopped, so the table
 is always whole (the rows done so far, in order) and readable as the umask allows.
 
-CSV cells: numbers as Python writes them back exactly (``repr``), true/false, empty for none.
+CSV cells: numbers as Python writes them back exactly (``repr``; the key numbers are rounded to 12
+significant digits, as the JSON report's), true/false, empty for none.
 Parquet columns are typed: the variant an integer, the numbers floats, ``undercut`` a boolean,
 the rest text; a varied key's column is integer, float, boolean or text as its values are all
 one of those. Rows go out in groups of :data:`GROUP_ROWS`; the bytes depend only on the rows.
