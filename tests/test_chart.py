@@ -4,6 +4,7 @@ escaped text, unique ids on a page, and the same bytes for the same figure."""
 
 from __future__ import annotations
 
+import itertools
 import math
 import xml.etree.ElementTree as ET
 
@@ -134,3 +135,50 @@ def test_only_the_bottom_panel_labels_a_shared_axis() -> None:
     root = ET.fromstring(fig.svg())
     labels = [t.text for t in root.iter(f"{NS}text")]
     assert labels.count("120") == 1 and labels.count("240") == 1
+
+
+def test_a_legend_entry_of_several_lines_is_as_tall_as_its_lines() -> None:
+    """Each entry of a legend stands in its own band of the box: a label of two lines takes
+    two lines' height, so it neither spills out of the box nor over the entry below it."""
+    fig = Figure(6.0, 3.0, "legend")
+    [ax] = fig.subplots()
+    ax.plot([0, 1], [0, 1], label="largest roller radius\nthe flanks take")
+    ax.plot([0, 1], [1, 0], label="roller 8 mm")
+    ax.legend(fontsize=8.5, outside_right=True)
+    root = ET.fromstring(fig.svg())
+    [box] = [r for r in root.iter(f"{NS}rect") if r.get("stroke") == "#cccccc"]
+    top = float(box.get("y"))
+    bottom = top + float(box.get("height"))
+    lines = []  # (centre y, size) of every line of text in the legend
+    for text in root.iter(f"{NS}text"):
+        if text.get("text-anchor") != "start":
+            continue
+        size, y = float(text.get("font-size")), float(text.get("y"))
+        spans = list(text.iter(f"{NS}tspan"))
+        for span in spans or [text]:
+            y += float(span.get("dy", 0.0)) if span is not text else 0.0
+            lines.append((y, size))
+    assert len(lines) == 3
+    lines.sort()
+    for (y0, s0), (y1, s1) in itertools.pairwise(lines):
+        assert y1 - y0 >= 0.5 * (s0 + s1) * 1.1  # a line's height apart, and some room
+    assert lines[0][0] - 0.5 * lines[0][1] >= top
+    assert lines[-1][0] + 0.5 * lines[-1][1] <= bottom
+
+
+def test_a_title_with_the_cam_angle_is_written_at_0_and_carries_its_template() -> None:
+    """``{θ}`` in a title: written at θ = 0 (``{θ×k}`` k times it), the template on the
+    element for the page's script; a title without it is written as given."""
+    from camfab.export.chart import frame_title
+
+    assert frame_title("cam at θ = {θ}°, travel {θ×0.5} mm", 0.0) == "cam at θ = 0°, travel 0 mm"
+    assert frame_title("cam at θ = {θ}°, travel {θ×0.5} mm", 37.0) == (
+        "cam at θ = 37°, travel 18.5 mm")
+    fig = Figure(6.0, 3.0, "titled")
+    first, second = fig.subplots(2)
+    first.set_title("cam at θ = {θ}°")
+    second.set_title("plain {braces}")
+    root = ET.fromstring(fig.svg())
+    texts = {t.text: t for t in root.iter(f"{NS}text")}
+    assert texts["cam at θ = 0°"].get("data-title") == "cam at θ = {θ}°"
+    assert texts["plain {braces}"].get("data-title") is None

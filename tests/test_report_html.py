@@ -1,8 +1,12 @@
 """The HTML report's content, read back from the page: every check, the drawing and the
-diagrams inline, dynamics when the design has them, and nothing fetched from a network."""
+diagrams inline, dynamics when the design has them, and nothing fetched from a network; the
+headings as a quantity and its unit, the inputs the design file takes for the kind, and no
+column of a globoid's motion table empty at every row."""
 
 from __future__ import annotations
 
+import html
+import json
 import re
 
 import pytest
@@ -40,3 +44,86 @@ def test_undercut_is_marked_on_the_drawing() -> None:
     page = render(analyse(load_design(DESIGNS / "demo-undercut.yaml"))).files[
         "demo-undercut-report.html"].decode()
     assert "undercut" in page and "pressure angle over the limit" in page
+
+
+def _section(page: str, name: str) -> str:
+    found = re.search(rf'<section id="{name}">(.*?)</section>', page, flags=re.S)
+    assert found is not None, name
+    return found.group(1)
+
+
+@pytest.mark.parametrize("name", ["demo-globoidal-concave", "seed-10-3-oscillating",
+                                  "seed-10-4", "demo-valve-at-speed"])
+def test_every_heading_reads_as_a_quantity_and_its_unit(name: str) -> None:
+    """The motion table's headings and the key numbers' labels: words, then the unit in
+    brackets: an arm's swing per radian of cam angle is "max velocity (rad/rad)", not
+    "max velocity rad (/rad)"."""
+    design = load_design(DESIGNS / f"{name}.yaml")
+    page = render(analyse(design)).files[f"{name}-report.html"].decode()
+    heads = [html.unescape(h) for h in re.findall(r"<th>(.*?)</th>", _section(page, "motion"))]
+    labels = [html.unescape(h) for h in re.findall(r"<tr><td>(.*?)</td>",
+                                                   _section(page, "numbers"))]
+    assert heads and labels
+    for label in heads + labels:
+        assert re.fullmatch(r"[A-Za-z][\w ]*( \([^()/ ][^()]*\))?", label), label
+    if design.follower.oscillating:
+        for unit in ("velocity (rad/rad)", "acceleration (rad/rad²)", "jerk (rad/rad³)"):
+            assert f"max {unit}" in heads, heads
+
+
+@pytest.mark.parametrize("name", ["demo-cylindrical", "demo-globoidal-concave",
+                                  "seed-10-3-oscillating", "demo-oscillating-flat",
+                                  "demo-linear-roller", "seed-10-4"])
+def test_the_inputs_table_lists_only_the_keys_the_design_file_takes_for_the_kind(
+        name: str) -> None:
+    """The cam and follower rows of the inputs table are keys the design file takes for the
+    design's cam type and follower (the loader refuses any other): no pivot_side or
+    face_offset on a drum, no offset on an arm, no arm on a translating follower."""
+    from camfab.design.cam_types import CAM_TYPES
+    from camfab.design.loader import follower_keys
+
+    design = load_design(DESIGNS / f"{name}.yaml")
+    page = render(analyse(design)).files[f"{name}-report.html"].decode()
+    keys = re.findall(r"<tr><td>([^<]+)</td>", _section(page, "inputs"))
+    fol = design.follower
+    spec = CAM_TYPES[design.cam.type]
+    accepted = {"cam": spec.cam_keys,
+                "follower": follower_keys(spec, {"type": fol.type, "motion": fol.motion})}
+    shown = {section: [key.split(".")[1] for key in keys if key.startswith(f"{section}.")]
+             for section in accepted}
+    for section, names in shown.items():
+        assert names and set(names) <= set(accepted[section]), (section, names)
+    assert "type" in shown["cam"] and "motion" in shown["follower"]
+    if design.cam.type == "cylindrical":
+        assert "pivot_side" not in shown["follower"] and "face_offset" not in shown["follower"]
+    if fol.oscillating:
+        assert "offset" not in shown["follower"] and "arm_length" in shown["follower"]
+    else:
+        assert "pivot_side" not in shown["follower"] and "arm_length" not in shown["follower"]
+    if fol.type != "flat":
+        assert "face_offset" not in shown["follower"]
+
+
+def test_a_globoid_s_motion_table_has_no_column_that_is_always_empty() -> None:
+    """A globoid's flanks are surfaces: no pitch or profile radius of curvature (columns that
+    were empty at every row); its table, the CSV and the page's readout, gives the undercut
+    limit at each angle instead, whose least is the report's undercut_roller_radius_mm. The
+    CSV keeps the pitch radius column SPEC §5 names for every table, empty; the readout shows
+    no column that is empty at every row."""
+    name = "demo-globoidal-concave"
+    files = render(analyse(load_design(DESIGNS / f"{name}.yaml"))).files
+    lines = files[f"{name}-motion.csv"].decode().strip().splitlines()
+    header = lines[0].split(",")
+    rows = [line.split(",") for line in lines[1:]]
+    for k, column in enumerate(header):
+        assert any(row[k] for row in rows) == (column != "pitch_radius_of_curvature_mm"), column
+    assert [c for c in header if "curvature" in c] == ["pitch_radius_of_curvature_mm"]
+    limit = [float(row[header.index("undercut_roller_radius_mm")]) for row in rows]
+    report = json.loads(files[f"{name}-report.json"])
+    least = report["geometry"]["undercut_roller_radius_mm"]
+    assert min(limit) == pytest.approx(least, rel=2e-3)  # the table's 1° rows, the least
+    assert min(limit) >= least - 1e-9                    # found on the 0.05° grid
+    page = files[f"{name}-report.html"].decode()
+    readout = [html.unescape(h) for h in re.findall(r"<th>(.*?)</th>", _section(page, "drawing"))]
+    assert "undercut roller radius (mm)" in readout
+    assert not [label for label in readout if "curvature" in label]

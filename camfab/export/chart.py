@@ -12,7 +12,7 @@ the figures use, with numpy doing the coordinate work and one string format per 
   a legend, scales itself to its data (5 % margins) or to given limits, keeps equal aspect for
   drawings, and puts "nice" ticks (steps of 1, 2, 2.5 and 5 times a power of ten) on both axes.
 
-Sizes are points (1/72 in), as in the SVG written: ``width="648pt"`` and a viewBox in points.
+Sizes are points (1/72 in), as in the SVG written: ``width="792pt"`` and a viewBox in points.
 The text stays text (sans-serif), so a page stays small and searchable. Ids are prefixed by the
 figure's name, so several figures can share one HTML page. The output depends only on the
 calls made: the same figure gives the same bytes.
@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass, field
@@ -42,8 +43,16 @@ TICK_FONT, LABEL_FONT = 8.5, 9.5
 #: Tick mark length (pt), outward, and the gap (pt) between a tick and its label.
 TICK_LENGTH, TICK_PAD = 3.5, 2.0
 
+#: Gap (pt) between a panel and a legend beside it.
+LEGEND_GAP = 10.0
+
 #: Average glyph width of the sans-serif font as a fraction of its size, to size legend boxes.
 GLYPH_WIDTH = 0.56
+
+#: Widths of a tick label's glyphs as fractions of the font size, to keep the y label clear of
+#: them: DejaVu Sans's, the widest of the figures' fonts (digits 0.64 em, its minus sign 0.84,
+#: its point 0.32); the average above is too narrow for a column of digits.
+DIGIT_WIDTH, TICK_GLYPHS = 0.64, {"−": 0.84, ".": 0.32, "×": 0.84}
 
 #: Fraction of the data range left free at each end of an axis scaled to its data.
 MARGIN = 0.05
@@ -59,6 +68,23 @@ NICE_STEPS = (1.0, 2.0, 2.5, 5.0, 10.0)
 _FAR = 1.0e4
 
 _SUPERSCRIPT = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
+
+#: A title's field for the cam angle of the animation's frame: ``{θ}`` is the angle (deg),
+#: ``{θ×k}`` k times it (a linear cam's travel). The title is written at θ = 0 with its
+#: template as ``data-title``; the page's script writes it again at each frame's angle (the same
+#: pattern and the same rounding: 6 significant digits, as the readout).
+ANGLE_FIELD = re.compile(r"\{θ(?:×([-+0-9.eE]+))?\}")
+
+
+def frame_title(template: str, theta_deg: float) -> str:
+    """The title *template* at the cam angle *theta_deg* (its :data:`ANGLE_FIELD` fields
+    filled in, as the page's script fills them)."""
+
+    def value(match: re.Match[str]) -> str:
+        scale = float(match.group(1)) if match.group(1) else 1.0
+        return f"{float(f'{scale * theta_deg:.6g}') + 0.0:g}"
+
+    return ANGLE_FIELD.sub(value, template)
 
 
 @dataclass(frozen=True)
@@ -129,6 +155,11 @@ def text_width(text: str, size: float) -> float:
     return max((len(line) for line in text.split("\n")), default=0) * size * GLYPH_WIDTH
 
 
+def tick_label_width(text: str, size: float) -> float:
+    """An upper estimate of the width (pt) of the tick label *text* at *size* pt."""
+    return size * sum(TICK_GLYPHS.get(c, DIGIT_WIDTH) for c in text)
+
+
 def _num(value: float) -> str:
     return f"{value:.2f}"
 
@@ -180,12 +211,14 @@ def _markers(x: np.ndarray, y: np.ndarray, style: Style) -> str:
 
 
 def _text(x: float, y: float, text: str, size: float, color: str = "#000000",
-          anchor: str = "middle", baseline: str = "central", rotate: bool = False) -> str:
-    """A text element at (x, y) pt; several lines are stacked (left to right when rotated)."""
+          anchor: str = "middle", baseline: str = "central", rotate: bool = False,
+          attributes: str = "") -> str:
+    """A text element at (x, y) pt; several lines are stacked (left to right when rotated);
+    *attributes* are written on the element as given."""
     lines = text.split("\n")
     turn = f' transform="rotate(-90 {_num(x)} {_num(y)})"' if rotate else ""
     head = (f'<text x="{_num(x)}" y="{_num(y)}" font-size="{_num(size)}" fill="{color}" '
-            f'text-anchor="{anchor}" dominant-baseline="{baseline}"{turn}>')
+            f'text-anchor="{anchor}" dominant-baseline="{baseline}"{turn}{attributes}>')
     if len(lines) == 1:
         return head + escape(text) + "</text>"
     leading = 1.2 * size
@@ -352,6 +385,8 @@ class Axes:
         self.ylabel, self.ylabel_size = text, fontsize
 
     def set_title(self, text: str, fontsize: float = 10.0) -> None:
+        """The panel's title; ``{θ}`` in it (:data:`ANGLE_FIELD`) follows the animation's
+        cam angle."""
         self.title, self.title_size = text, fontsize
 
     # --- layout --------------------------------------------------------------------------------
@@ -438,8 +473,13 @@ class Axes:
                    f'height="{_num(height)}" fill="none" stroke="#000000" stroke-width="0.8"/>')
         out.append(self._ticks(px, py, (left, top, width, height), (x0, x1), (y0, y1)))
         if self.title:
-            out.append(_text(left + width / 2.0, top - 6.0, self.title, self.title_size,
-                             baseline="auto"))
+            # a title with the cam angle in it: written at θ = 0, its template with it
+            animated = ANGLE_FIELD.search(self.title) is not None
+            out.append(_text(left + width / 2.0, top - 6.0,
+                             frame_title(self.title, 0.0) if animated else self.title,
+                             self.title_size, baseline="auto",
+                             attributes=f' class="frame-title" data-title="{escape(self.title)}"'
+                             if animated else ""))
         if self.legend_options is not None:
             out.append(self._legend(px, py, (left, top, width, height)))
         return "".join(out)
@@ -516,7 +556,7 @@ class Axes:
             x = left - TICK_LENGTH - TICK_PAD
             out += [_text(x, y, t, TICK_FONT, anchor="end") for y, t in zip(py(yt), labels,
                                                                             strict=True)]
-            widest = max(text_width(t, TICK_FONT) for t in labels)
+            widest = max(tick_label_width(t, TICK_FONT) for t in labels)
             if factor:
                 out.append(_text(left, top - 2.0, factor, TICK_FONT, anchor="start",
                                  baseline="auto"))
@@ -534,14 +574,18 @@ class Axes:
         size, ncol = o["size"], max(1, min(o["ncol"], len(entries)))
         rows = math.ceil(len(entries) / ncol)
         sample, pad, row_h = 2.0 * size, 0.5 * size, 1.35 * size
+
+        def tall(e: _Item) -> float:  # an entry's height: a label of several lines is taller
+            return row_h + 1.2 * size * (e.label or "").count("\n")
+
         columns = [entries[c * rows:(c + 1) * rows] for c in range(ncol)]
         col_w = [sample + 0.6 * size + max(text_width(e.label or "", size) for e in col)
                  for col in columns if col]
         w = sum(col_w) + pad * (len(col_w) + 1)
-        h = rows * row_h + pad
+        h = max(sum(tall(e) for e in col) for col in columns if col) + pad
         left, top, width, height = box
-        if o["outside"]:
-            x, y = left + width + 0.03 * width, top + (height - h) / 2.0
+        if o["outside"]:  # beside the panel, a fixed gap from it whatever its width
+            x, y = left + width + LEGEND_GAP, top + (height - h) / 2.0
         else:
             x, y = self._corner(o["loc"], w, h, px, py, box)
         out = [f'<rect x="{_num(x)}" y="{_num(y)}" width="{_num(w)}" height="{_num(h)}" '
@@ -549,11 +593,13 @@ class Axes:
                f'rx="2"/>']
         cx = x + pad
         for col, cw in zip(columns, col_w, strict=False):
-            for r, e in enumerate(col):
-                cy = y + pad / 2.0 + (r + 0.5) * row_h
+            cy = y + pad / 2.0
+            for e in col:
+                cy += tall(e) / 2.0  # the entry's middle, its lines about it
                 out.append(_legend_sample(e, cx, cy, sample))
                 out.append(_text(cx + sample + 0.6 * size, cy, e.label or "", size,
                                  anchor="start"))
+                cy += tall(e) / 2.0
             cx += cw + pad
         return "".join(out)
 

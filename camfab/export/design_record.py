@@ -1,7 +1,10 @@
 """Every input of a design, as the report records it: each key of the design model (defaults
-included) in the design's units — lengths in its ``units``, angles and oscillating lifts in
-degrees, the other quantities in the units their keys state (rpm, kg, N, N/mm, N·s/m) —
-and a follower block of every follower dimension in millimetres and degrees."""
+included) that the design file takes for its cam type and follower — its ``cam:`` section's
+keys and its follower's (type, motion and cam type), as the loader lists them, so a drum shows
+no ``pivot_side`` and a translating follower no arm — in the design's units: lengths in its
+``units``, angles and oscillating lifts in degrees, the other quantities in the units their
+keys state (rpm, kg, N, N/mm, N·s/m); and a follower block of every follower dimension in
+millimetres and degrees."""
 
 from __future__ import annotations
 
@@ -55,14 +58,33 @@ def _value(value: Any, kind: Any, design: Design) -> Any:
     return value
 
 
-def _model(model: BaseModel, design: Design) -> dict[str, Any]:
+def accepted_keys(design: Design) -> dict[str, tuple[str, ...]]:
+    """The keys the design file takes in its ``cam`` and ``follower`` sections for the cam
+    type and follower of *design*: the loader's lists (the cam type's row, the follower's type
+    and motion)."""
+    from camfab.design.cam_types import CAM_TYPES
+    from camfab.design.loader import follower_keys
+
+    spec = CAM_TYPES[design.cam.type]
+    fol = design.follower
+    return {"cam": spec.cam_keys,
+            "follower": follower_keys(spec, {"type": fol.type, "motion": fol.motion})}
+
+
+def _model(model: BaseModel, design: Design,
+           keys: dict[str, tuple[str, ...]] | None = None) -> dict[str, Any]:
+    """The fields of *model* in the design's units; of a section named in *keys*, only the
+    fields the design file takes there."""
     out: dict[str, Any] = {}
     for name in type(model).model_fields:
         if name in _NOT_INPUTS:
             continue
         value = getattr(model, name)
         if isinstance(value, BaseModel):
-            out[name] = _model(value, design)
+            section = _model(value, design)
+            if keys is not None and name in keys:
+                section = {k: v for k, v in section.items() if k in keys[name]}
+            out[name] = section
         elif isinstance(value, tuple) and value and isinstance(value[0], BaseModel):
             out[name] = [_model(item, design) for item in value]
         elif name == "points" and value is not None:
@@ -79,8 +101,9 @@ def _model(model: BaseModel, design: Design) -> dict[str, Any]:
 
 
 def design_record(design: Design) -> dict[str, Any]:
-    """Every key of *design* as the design file takes it, in the design's units."""
-    return _model(design, design)
+    """Every key of *design* that the design file takes for its cam type and follower
+    (:func:`accepted_keys`), in the design's units."""
+    return _model(design, design, accepted_keys(design))
 
 
 def follower_record(design: Design) -> dict[str, Any]:

@@ -7,6 +7,7 @@ into the HTML page. Lengths are millimetres and angles degrees.
 from __future__ import annotations
 
 import math
+import textwrap
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -30,6 +31,28 @@ POCKET, CHANGE = "#8e44ad", "#0e6e8c"
 
 #: Font size (pt) of the figures' legends and notes: 11 px and more on the page.
 LEGEND_FONT = 8.5
+
+#: Width (in) of the report's figures: a card of the page is at most 1100 px wide, 1060 px
+#: inside its padding (11.04 in at 96 px to the inch), and a figure fills its card's width
+#: (the page's CSS) at about its own size, so a point of it is a point on the screen and its
+#: 8.5 pt text (:data:`LEGEND_FONT`, the tick labels) 11.3 px at 100 % zoom.
+FIGURE_WIDTH = 11.0
+
+#: Room (in) left of a figure's panels for the tick labels and the y label, and right of them
+#: for the legends and notes beside them: the same at every width, so the panels take the rest.
+LEFT_ROOM, RIGHT_ROOM = 1.0, 2.6
+
+
+#: The most characters a line of a note beside a panel holds (in :data:`RIGHT_ROOM`, less the
+#: 6° of the cam-angle axis it starts after, at :data:`LEGEND_FONT`).
+NOTE_CHARS = 30
+
+
+def side_margins(width: float = FIGURE_WIDTH) -> tuple[float, float]:
+    """The *left* and *right* margins (fractions of a figure *width* in wide, as
+    :class:`~camfab.export.chart.Figure` takes them) that leave :data:`LEFT_ROOM` and
+    :data:`RIGHT_ROOM`."""
+    return LEFT_ROOM / width, 1.0 - RIGHT_ROOM / width
 
 
 def thin(*arrays: np.ndarray) -> list[np.ndarray]:
@@ -67,9 +90,10 @@ def segment_marks(ax: Axes, analysis: Analysis, labels: bool) -> None:
 
 def panel_stack(rows: int, name: str = "diagrams") -> tuple[Figure, list[Axes]]:
     """A figure of *rows* panels 1.45 in high, one under the other on a shared cam-angle axis,
-    9 in wide (*name* prefixes its SVG ids: one per figure of a page)."""
+    :data:`FIGURE_WIDTH` wide (*name* prefixes its SVG ids: one per figure of a page)."""
     height = 1.45 * rows + 0.6
-    fig = Figure(9.0, height, name, left=0.11, right=0.72, top=1 - 0.3 / height,
+    left, right = side_margins()
+    fig = Figure(FIGURE_WIDTH, height, name, left=left, right=right, top=1 - 0.3 / height,
                  bottom=0.45 / height)
     return fig, fig.subplots(rows, sharex=True)
 
@@ -130,11 +154,11 @@ def _motion_panels(analysis: Analysis, axes: list[Axes]) -> None:
         steps = [f for f in analysis.findings if f.id == "continuity" and not f.ok
                  and f.quantity == names[order - 1]] if order else []
         if steps:  # a step of the derivative below: this one is unbounded there; said
-            # beside the panel, where no curve is
-            ax.text(366.0, 0.5, f"∞ where the {names[order - 1]}\nsteps (at "
-                    f"{', '.join(f'{a:.4g}°' for a, _ in steps[0].ranges_deg)});\n"
-                    "drawn between", ha="left", va="center", fontsize=LEGEND_FONT,
-                    color="#555555", y_in_axes=True)
+            # beside the panel, where no curve is, in lines as wide as the room there
+            at = ", ".join(f"{a:.4g}°" for a, _ in steps[0].ranges_deg)
+            words = f"∞ where the {names[order - 1]} steps (at {at}); drawn between"
+            ax.text(366.0, 0.5, "\n".join(textwrap.wrap(words, NOTE_CHARS)), ha="left",
+                    va="center", fontsize=LEGEND_FONT, color="#555555", y_in_axes=True)
         ax.set_ylabel(f"{names[order]}\n({unit})", fontsize=LEGEND_FONT)
         ax.axhline(0.0, color=REFERENCE, linewidth=0.5)
 

@@ -6,10 +6,11 @@ motion to the cam's normal); radii of curvature are signed, convex positive, and
 curve is straight. A drum cam gives the pressure angle at the groove's floor and the radius of
 curvature of its pitch curve developed at the mean radius. A linear cam adds ``cam_travel_mm``
 (the plate's travel, a stroke being 360° of cam angle) after the cam angle; a conjugate pair
-adds cam b's pressure angle and radii (``..._b_...``). Cam types whose geometry is not computed
-leave these columns empty. Where computed, the contact stress (``contact_stress_MPa``) and an
-elastic follower train's displacement and contact force (``dynamic_displacement_mm`` or
-``_deg``, ``dynamic_contact_force_N``) come last.
+adds cam b's pressure angle and radii (``..._b_...``); a globoidal cam, whose flanks are
+surfaces, leaves the pitch radius empty and gives ``undercut_roller_radius_mm``, the largest
+roller its flanks take without folding. Where computed, the contact stress
+(``contact_stress_MPa``) and an elastic follower train's displacement and contact force
+(``dynamic_displacement_mm`` or ``_deg``, ``dynamic_contact_force_N``) come last.
 """
 
 from __future__ import annotations

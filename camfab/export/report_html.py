@@ -1,9 +1,10 @@
 """``NAME-report.html``: the inspection report for people (SPEC §5), one self-contained page.
 
 A Jinja2 template inside the package lays out the verdict, every check with where it fails, the
-drawing of the cam (a disc at θ = 0 with its follower, or a drum's developed groove), the key
-numbers, the motion diagrams, pressure angle and curvature, the dynamics and the verification.
-The figures are inline SVG (``figures``), so the page works offline.
+drawing of the cam (a disc with its follower, or a drum's developed groove, moved by the page's
+slider, its title saying the cam angle), the key numbers, the motion diagrams, pressure angle and
+curvature, the dynamics and the verification. The figures are inline SVG (``figures``), so the
+page works offline.
 """
 
 from __future__ import annotations
@@ -242,7 +243,8 @@ def animation_data(analysis: Analysis) -> dict[str, Any]:
     1° apart: :func:`camfab.export.figures.frame_angles`), the cam angle, the lift, its
     derivatives (at the design's speed, or per radian), the pressure angle, the radii of
     curvature and the contact force where there are dynamics; labels with units, lengths in
-    the design's units."""
+    the design's units. A column of the table empty at every row (a globoid's pitch radius)
+    is left out."""
     import numpy as np
 
     from camfab.export.figures import frame_angles
@@ -257,6 +259,8 @@ def animation_data(analysis: Analysis) -> dict[str, Any]:
     length = design.mm_per_unit
     for k, name in enumerate(columns):
         column = table[:, k]
+        if not np.isfinite(column).any():
+            continue
         label = column_label(name)
         if name.endswith("_mm") and design.units == "in":
             column, label = column / length, label.replace("(mm)", "(in)")
@@ -287,11 +291,15 @@ def animation_data(analysis: Analysis) -> dict[str, Any]:
                      for row in rows]}
 
 
-#: Units in the keys of camfab's tables, as written on the page.
-_UNITS = (("_m_s3", "m/s³"), ("_m_s2", "m/s²"), ("_m_s", "m/s"), ("_rad_s3", "rad/s³"),
-          ("_rad_s2", "rad/s²"), ("_rad_s", "rad/s"), ("_mm_per_rad3", "mm/rad³"),
-          ("_mm_per_rad2", "mm/rad²"), ("_mm_per_rad", "mm/rad"), ("_per_rad3", "/rad³"),
-          ("_per_rad2", "/rad²"), ("_per_rad", "/rad"), ("_mm3", "mm³"), ("_mm2", "mm²"),
+#: Units in the keys of camfab's tables, as written on the page; the longer suffix first where
+#: one ends another (``_rad_per_rad`` before ``_per_rad``: an arm's swing per radian of cam
+#: angle reads "rad/rad", not "rad (/rad)").
+_UNITS = (("_mm_s", "mm/s"), ("_m_s3", "m/s³"), ("_m_s2", "m/s²"), ("_m_s", "m/s"),
+          ("_rad_s3", "rad/s³"), ("_rad_s2", "rad/s²"), ("_rad_s", "rad/s"),
+          ("_mm_per_rad3", "mm/rad³"), ("_mm_per_rad2", "mm/rad²"), ("_mm_per_rad", "mm/rad"),
+          ("_rad_per_rad3", "rad/rad³"), ("_rad_per_rad2", "rad/rad²"),
+          ("_rad_per_rad", "rad/rad"), ("_per_rad3", "/rad³"), ("_per_rad2", "/rad²"),
+          ("_per_rad", "/rad"), ("_mm3", "mm³"), ("_mm2", "mm²"),
           ("_mm", "mm"), ("_deg", "°"), ("_rpm", "rpm"), ("_N_m", "N·m"),
           ("_N_per_mm", "N/mm"), ("_N", "N"), ("_kg", "kg"), ("_MPa", "MPa"), ("_Hz", "Hz"),
           ("_h", "h"))
@@ -338,4 +346,5 @@ def _lift_rows(table: dict[str, Any]) -> dict[str, Any]:
     blocks = 6
     depth = -(-len(rows) // blocks)
     return {"unit": table["unit"], "step": num(table["step_deg"]), "depth": depth,
+            "tolerance": num(table["inspection_tolerance_mm"]),
             "blocks": [rows[i * depth:(i + 1) * depth] for i in range(blocks)]}

@@ -17,6 +17,7 @@ import numpy as np
 from camfab.export.chart import Axes, Figure
 from camfab.export.figures import (
     BAD,
+    FIGURE_WIDTH,
     FOLLOWER,
     LEGEND_FONT,
     PITCH,
@@ -26,6 +27,7 @@ from camfab.export.figures import (
     angle_axis,
     panel_stack,
     segment_marks,
+    side_margins,
     thin,
 )
 
@@ -118,8 +120,9 @@ def spectrum_figure(analysis: Analysis) -> str | None:
     if shaken is None:
         return None
     height = 2.6
-    fig = Figure(9.0, height, "spectrum", left=0.11, right=0.72, top=1 - 0.3 / height,
-                 bottom=0.55 / height)
+    left, right = side_margins()
+    fig = Figure(FIGURE_WIDTH, height, "spectrum", left=left, right=right,
+                 top=1 - 0.3 / height, bottom=0.55 / height)
     [ax] = fig.subplots()
     n, amplitude = shaken.harmonics, shaken.amplitudes
     x = np.repeat(n.astype(float), 3)

@@ -137,12 +137,14 @@ def _drawing_svg(analysis: Analysis, dense: DrumDense) -> str:
     from camfab.export.chart import Figure
     from camfab.export.figures import (
         CUT,
+        FIGURE_WIDTH,
         FOLLOWER,
         LEGEND_FONT,
         PITCH,
         REFERENCE,
         frame_angles,
         scale_bar,
+        side_margins,
         translations,
     )
     from camfab.geometry.drum_mesh import development
@@ -150,11 +152,12 @@ def _drawing_svg(analysis: Analysis, dense: DrumDense) -> str:
     d = dense.drum
     design = analysis.design
     dev = development(d, analysis.program, 0.01)
-    # as high as the developed surface needs at the panel's width (0.68 of 9 in), plus margins
-    panel = 0.68 * 9.0 * 1.1 * dev.height / max(dev.width, 1e-9)
+    # as high as the developed surface needs at the panel's width, plus margins
+    left, right = side_margins()
+    panel = (right - left) * FIGURE_WIDTH * 1.1 * dev.height / max(dev.width, 1e-9)
     height = min(9.0, max(2.8, panel + 1.0))
-    fig = Figure(9.0, height, "drawing", left=0.08, right=0.76, bottom=0.55 / height,
-                 top=1.0 - 0.4 / height)
+    fig = Figure(FIGURE_WIDTH, height, "drawing", left=left, right=right,
+                 bottom=0.55 / height, top=1.0 - 0.4 / height)
     [ax] = fig.subplots()
     ax.set_aspect("equal")
     ax.plot([0, dev.width, dev.width, 0, 0], [0, 0, dev.height, dev.height, 0],
@@ -176,8 +179,8 @@ def _drawing_svg(analysis: Analysis, dense: DrumDense) -> str:
     _, _, kx, ky = ax.to_frame()
     ax.animate("follower", translations(kx * d.radius * (-d.sigma * theta),
                                         -ky * (s - s[0])))
-    ax.set_title(f"{design.name}: groove developed at the surface (r = {d.radius:.4g}"
-                 " mm), seen from outside", fontsize=10)
+    ax.set_title(f"{design.name} at θ = {{θ}}°: groove developed at the surface (r = "
+                 f"{d.radius:.4g} mm), seen from outside", fontsize=10)
     ax.set_xlabel("around the drum (mm)")
     ax.set_ylabel("z (mm)")
     ax.legend(fontsize=LEGEND_FONT, outside_right=True)

@@ -78,15 +78,22 @@ class GloboidResult(CamResult):
         }
 
     def table_columns(self, theta: Array, motion: Array) -> list[tuple[str, Array]]:
-        """The largest pressure angle along the roller's contact line; no radius of curvature
-        (the flanks are surfaces: their limit is the undercut check's)."""
-        blank = self.globoid.blank
-        g = blank.follower
-        ells = blank.contact()[:, None]
+        """The largest pressure angle along the roller's contact line, and the largest roller
+        radius the flanks take there without folding (``undercut_roller_radius_mm``, the
+        diagrams' undercut limit; empty where no roller folds them). No radius of curvature:
+        the flanks are surfaces, not curves of the cam (their limit is this one, the undercut
+        check's); the pitch radius column SPEC §5 gives every table stays, empty, and the
+        report's readout leaves it out."""
+        from camfab.analysis.at_speed import sample_at
+
+        dense = self.globoid
+        g = dense.blank.follower
+        ells = dense.blank.contact()[:, None]
         phi = np.degrees(g.pressure_angle(ells, g.rest + motion[0][None, :],
                                           motion[1][None, :])).max(axis=0)
-        empty = np.full(theta.size, np.nan)
-        return list(zip(TABLE_COLUMNS, (phi, empty, empty), strict=True))
+        limit = sample_at(dense.theta, dense.undercut_radius, theta)
+        return [(TABLE_COLUMNS[0], phi), (TABLE_COLUMNS[1], np.full(theta.size, np.nan)),
+                ("undercut_roller_radius_mm", np.where(np.isfinite(limit), limit, np.nan))]
 
     def dynamics_note(self, analysis: Analysis) -> str:
         return ("a globoidal cam drives its follower both ways without a spring: the forces on "
@@ -171,6 +178,7 @@ def _drawing_svg(analysis: Analysis, blank: GloboidCam) -> str:
     from camfab.export.chart import Figure
     from camfab.export.figures import (
         CUT,
+        FIGURE_WIDTH,
         FOLLOWER,
         LEGEND_FONT,
         PITCH,
@@ -179,6 +187,7 @@ def _drawing_svg(analysis: Analysis, blank: GloboidCam) -> str:
         group_points,
         rotations,
         scale_bar,
+        side_margins,
         turned,
     )
 
@@ -189,9 +198,10 @@ def _drawing_svg(analysis: Analysis, blank: GloboidCam) -> str:
     swing = np.abs(np.sin(g.rest + np.array([0.0, program.max_lift])))
     tall = max(0.6 * blank.width, float(np.max(swing)) * (g.arm + g.length / 2.0) + g.radius)
     across = float(np.max(section[:, 0])) + g.centre
-    height = min(9.0, max(3.0, 0.57 * 9.0 * 2.0 * tall / across + 1.2))
-    fig = Figure(9.0, height, "drawing", left=0.09, right=0.66, bottom=0.7 / height,
-                 top=1.0 - 0.45 / height)
+    left, right = side_margins()
+    height = min(9.0, max(3.0, (right - left) * FIGURE_WIDTH * 2.0 * tall / across + 1.2))
+    fig = Figure(FIGURE_WIDTH, height, "drawing", left=left, right=right,
+                 bottom=0.7 / height, top=1.0 - 0.45 / height)
     [ax] = fig.subplots()
     ax.set_aspect("equal")
     for sign, label in ((1.0, "the blank in section"), (-1.0, None)):
@@ -222,7 +232,7 @@ def _drawing_svg(analysis: Analysis, blank: GloboidCam) -> str:
         # a convex globoid's arm reaches past the cam: its yoke goes round the blank
         ax.plot([pivot[0], outer[0]], [pivot[1], outer[1]], color=FOLLOWER, linewidth=2.0,
                 linestyle="-" if blank.inward > 0 else "--",
-                label="arm" if blank.inward > 0 else "arm's line (its yoke round the blank)")
+                label="arm" if blank.inward > 0 else "arm's line (its yoke\nround the blank)")
         ax.plot(corners[:, 0], corners[:, 1], color=FOLLOWER, linewidth=1.5, label="roller")
         ax.plot([pivot[0]], [pivot[1]], "o", color=FOLLOWER, markersize=4)
     theta = frame_angles(design.table_step)
@@ -235,8 +245,8 @@ def _drawing_svg(analysis: Analysis, blank: GloboidCam) -> str:
     scale_bar(ax, 2.0 * reach, design.units, 1.0 / design.mm_per_unit)
     ox, oy, kx, ky = ax.to_frame()
     ax.animate("follower", rotations(move, (ox + kx * pivot[0], oy - ky * pivot[1])))
-    ax.set_title(f"{design.name}: globoidal cam ({design.cam.globoid}) cut through its axis "
-                 "and the pivot", fontsize=10)
+    ax.set_title(f"{design.name} at θ = {{θ}}°: globoidal cam ({design.cam.globoid}) cut "
+                 "through its axis and the pivot", fontsize=10)
     ax.set_xlabel("x (mm)")
     ax.set_ylabel("z, the cam axis (mm)")
     ax.legend(fontsize=LEGEND_FONT, outside_right=True)

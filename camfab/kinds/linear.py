@@ -226,6 +226,7 @@ def _drawing_svg(analysis: Analysis, geom: LinearGeometry) -> str:
     from camfab.export.chart import Figure
     from camfab.export.figures import (
         CUT,
+        FIGURE_WIDTH,
         FOLLOWER,
         LEGEND_FONT,
         PITCH,
@@ -233,6 +234,7 @@ def _drawing_svg(analysis: Analysis, geom: LinearGeometry) -> str:
         frame_angles,
         mark_failures,
         scale_bar,
+        side_margins,
         translations,
     )
 
@@ -241,9 +243,10 @@ def _drawing_svg(analysis: Analysis, geom: LinearGeometry) -> str:
     outline = geom.outline_points()
     width = geom.plate_length
     height = float(outline[:, 1].max()) + 2.5 * cam.radius + 0.25 * cam.base_height
-    size = 9.0
+    size = FIGURE_WIDTH
+    left, right = side_margins()
     fig = Figure(size, max(3.0, 0.7 * size * (height + 0.3 * cam.base_height) / width * 1.15),
-                 "drawing", left=0.07, right=0.72, bottom=0.2, top=0.88)
+                 "drawing", left=left, right=right, bottom=0.2, top=0.88)
     [ax] = fig.subplots()
     ax.set_aspect("equal")
     with ax.group("cam"):
@@ -281,7 +284,9 @@ def _drawing_svg(analysis: Analysis, geom: LinearGeometry) -> str:
     ax.animate("cam", translations(-kx * travel, np.zeros(theta.size)))
     ax.animate("follower", translations(np.zeros(theta.size), -ky * (s - s[0])))
     ax.legend(fontsize=LEGEND_FONT, outside_right=True)
-    ax.set_title(f"{design.name} at travel 0 (stroke {cam.stroke:.4g} mm)", fontsize=10)
+    # the travel at the frame's cam angle: a stroke is 360° of it
+    ax.set_title(f"{design.name} at travel {{θ×{cam.stroke / 360.0:.12g}}} mm, θ = {{θ}}° "
+                 f"(stroke {cam.stroke:.4g} mm)", fontsize=10)
     ax.set_xlabel("x (mm)")
     ax.set_ylabel("y (mm)")
     return fig.svg()

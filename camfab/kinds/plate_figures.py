@@ -13,6 +13,7 @@ from camfab.export.chart import Axes, Figure
 from camfab.export.figures import (
     BAD,
     CUT,
+    FIGURE_WIDTH,
     FOLLOWER,
     LEGEND_FONT,
     PITCH,
@@ -24,6 +25,7 @@ from camfab.export.figures import (
     mark_failures,
     rotations,
     scale_bar,
+    side_margins,
     thin,
     translations,
     turned,
@@ -75,7 +77,8 @@ def plate_drawing_svg(result: PlateResult, analysis: Analysis) -> str:
     cam = geom.cam
     fol = cam.follower
     design = analysis.design
-    fig = Figure(9.0, 6.6, "drawing", left=0.09, right=0.66, bottom=0.08, top=0.94)
+    left, right = side_margins()
+    fig = Figure(FIGURE_WIDTH, 7.6, "drawing", left=left, right=right, bottom=0.07, top=0.95)
     [ax] = fig.subplots()
     ax.set_aspect("equal")
     with ax.group("cam"):
@@ -120,7 +123,7 @@ def plate_drawing_svg(result: PlateResult, analysis: Analysis) -> str:
     ax.animate("follower", rotations(move, (ox + kx * pivot[0], oy - ky * pivot[1]))
                if fol.oscillating else translations(np.zeros(theta.size), -ky * move))
     ax.legend(fontsize=LEGEND_FONT, outside_right=True)
-    ax.set_title(f"{design.name} at θ = 0 ({design.cam.rotation})", fontsize=10)
+    ax.set_title(f"{design.name} at θ = {{θ}}° ({design.cam.rotation})", fontsize=10)
     ax.set_xlabel("x (mm)")
     ax.set_ylabel("y (mm)")
     return fig.svg()
