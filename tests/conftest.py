@@ -38,6 +38,18 @@ def tool(name: str, package: str | None = None) -> str:
     return path
 
 
+def need_step_extra() -> None:
+    """At a test module's top: skip the module (fail it in CI, which installs the extra) when
+    the STEP extra's OpenCASCADE bindings are not installed."""
+    from importlib.util import find_spec
+
+    if find_spec("OCP") is None:
+        why = "the STEP extra (pip install 'camfab[step]') is not installed"
+        if REQUIRED:
+            pytest.fail(why, pytrace=False)
+        pytest.skip(why, allow_module_level=True)
+
+
 def run_cli(*args: str, cwd: Path | None = None) -> Result:
     """Run ``camfab ARGS`` in-process (in *cwd* when given) and return the click result."""
     runner = CliRunner()

@@ -7,13 +7,15 @@ lines and arcs of its contours (each line a plane, each arc a cylindrical face w
 circular edge; a circle a cylinder), a revolution from the lines and arcs of its section (a
 globoid's blank), a cylinder as a cylinder, differences as booleans, and the plates of a union
 as one solid each; a mesh that carries grids of its exact surface's points (a drum's or a
-globoid's groove) as cubic B-spline surfaces approximated through them and sewn into one solid,
-measured against probes of the exact surface. A mesh without them, or an extrusion or a
-revolution of sampled points only, has no exact form here: the part gets no STEP, and the build
-says why.
+globoid's groove) as cubic B-spline surfaces through them, sewn into one solid, each edge on its
+faces to well under a STEP reader's 1e-7 mm (:mod:`camfab.export.step_surfaces`), measured against
+probes of the exact surface. A mesh without them, or an extrusion or a revolution of sampled
+points only, has no exact form here: the part gets no STEP, and the build says why.
 
-The file's header carries no clock time (a fixed stamp), so a design gives the same bytes every
-build; OpenCASCADE's progress messages are silenced.
+Each solid is a product named for the part: ``NAME``, or a pair's two plates ``NAME-a`` and
+``NAME-b`` in an assembly ``NAME``, so that CAD programs list them by name. The file's header
+carries no clock time (a fixed stamp), so a design gives the same bytes every build;
+OpenCASCADE's progress messages are silenced.
 """
 
 from __future__ import annotations
@@ -36,6 +38,7 @@ from camfab.export.part import (
     Union,
     pieces,
 )
+from camfab.export.step_surfaces import NotExact
 
 if TYPE_CHECKING:
     from camfab.arrays import Array
@@ -45,23 +48,8 @@ if TYPE_CHECKING:
 TIME_STAMP = "2000-01-01T00:00:00"
 #: The read-back measures a grid of this many points each way over each face's parameters.
 FACE_GRID = 5
-#: How near (mm) the fitted surfaces come to the grids' points.
-FIT_MM = 1e-5
-#: The patches each fitted surface is cut into round the cam (count).
-FIT_PATCHES = 4
-#: The fitted surfaces' highest degree: cubic, with as many knots as the fit needs. Higher
-#: degrees through the unevenly spaced stations swing between them: a convex globoid's groove
-#: top came out with a loop that left its volume 50,000 mm³ off once integrated finely.
-FIT_DEGREE = 3
 #: The relative precision to which the read-back's volume is integrated.
 VOLUME_PRECISION = 1e-6
-#: How near (mm) the fitted surfaces' shared edges must be to be sewn into one: a few times
-#: :data:`FIT_MM`, far below any tolerance.
-SEWING_MM = 1e-4
-
-
-class NotExact(ValueError):
-    """The part holds a piece camfab has no exact solid for (its message says which)."""
 
 
 @dataclass(frozen=True)
@@ -81,11 +69,17 @@ def render_step(solid: Solid, name: str) -> StepFile:
     before OpenCASCADE is imported)."""
     _exact(solid)
     shapes = [_shape(part) for part in _parts(solid)]
+    curved = _curved(solid)
+    if curved:  # the edges where the fitted faces meet the exact ones, on both
+        from camfab.export.step_surfaces import meet_exactly
+
+        for shape in shapes:
+            meet_exactly(shape)
     try:
         volume: float | None = _volume(solid)
     except NotExact:
         volume = None
-    return StepFile(_written(shapes, name), len(shapes), volume, _curved(solid))
+    return StepFile(_written(shapes, name, curved), len(shapes), volume, curved)
 
 
 def _curved(solid: Solid) -> bool:
@@ -138,56 +132,11 @@ def _shape(solid: Solid) -> Any:
             fused = BRepAlgoAPI_Fuse(fused, shape).Shape()
         return fused
     if isinstance(solid, Mesh):
-        return _fitted(solid.surfaces)
+        from camfab.export.step_surfaces import fitted_solid
+
+        return fitted_solid(solid.surfaces)
     assert solid.exact is not None
     return _revolved(solid.exact)
-
-
-def _fitted(grids: tuple[Array, ...]) -> Any:
-    """The closed solid bounded by B-spline surfaces through *grids* (mm; each closed round
-    its first axis), sewn and oriented outward. Each grid is cut round its first axis into
-    :data:`FIT_PATCHES` patches sharing their edge rows, each patch approximated within
-    :data:`FIT_MM` of its points: interpolated surfaces, periodic or not, stray tenths of a
-    millimetre between the rows of the unevenly spaced cam angles, and periodic faces' seams
-    upset the booleans."""
-    from OCP.BRepBuilderAPI import (
-        BRepBuilderAPI_MakeFace,
-        BRepBuilderAPI_MakeSolid,
-        BRepBuilderAPI_Sewing,
-    )
-    from OCP.BRepLib import BRepLib
-    from OCP.GeomAbs import GeomAbs_Shape
-    from OCP.GeomAPI import GeomAPI_PointsToBSplineSurface
-    from OCP.gp import gp_Pnt
-    from OCP.OCP.collections import Array2_gp_Pnt
-    from OCP.TopAbs import TopAbs_SHELL
-    from OCP.TopoDS import TopoDS
-
-    sewing = BRepBuilderAPI_Sewing(SEWING_MM)
-    for grid in grids:
-        count = grid.shape[0]
-        ends = [round(k * count / FIT_PATCHES) for k in range(FIT_PATCHES + 1)]
-        for first, last in itertools.pairwise(ends):
-            patch = grid[np.arange(first, last + 1) % count]
-            rows, columns = patch.shape[:2]
-            points = Array2_gp_Pnt(1, rows, 1, columns)
-            for i in range(rows):
-                for j in range(columns):
-                    x, y, z = patch[i, j]
-                    points.SetValue(i + 1, j + 1, gp_Pnt(float(x), float(y), float(z)))
-            fit = GeomAPI_PointsToBSplineSurface(points, 3, FIT_DEGREE,
-                                                 GeomAbs_Shape.GeomAbs_C2, FIT_MM)
-            sewing.Add(BRepBuilderAPI_MakeFace(fit.Surface(), SEWING_MM).Face())
-    sewing.Perform()
-    sewn = sewing.SewedShape()
-    if sewn.ShapeType() != TopAbs_SHELL:
-        raise NotExact("surfaces fitted through the groove's points that do not sew into one "
-                       "closed shell")
-    solid = BRepBuilderAPI_MakeSolid(TopoDS.Shell(sewn)).Solid()
-    BRepLib.OrientClosedSolid_s(solid)
-    if _signed_volume(solid) < 0.0:  # (the orientation is not always found)
-        solid = TopoDS.Solid(solid.Reversed())
-    return solid
 
 
 def _signed_volume(shape: Any, precise: bool = False) -> float:
@@ -288,25 +237,50 @@ def _moved(shape: Any, z: float) -> Any:
     return BRepBuilderAPI_Transform(shape, move, True).Shape()
 
 
-def _written(shapes: list[Any], name: str) -> bytes:
-    """*shapes* as one AP214 STEP file in millimetres, with no pcurves (the faces' curves in
-    their own parameters, which OpenCASCADE writes as B-splines) and a fixed header."""
+def _written(shapes: list[Any], name: str, pcurves: bool = False) -> bytes:
+    """*shapes* as one AP214 STEP file in millimetres, each a product named for its part
+    (:func:`_names`; a pair's two under an assembly named *name*), with a fixed header, and
+    with the edges' curves on their faces (pcurves) only for fitted surfaces (*pcurves*): a
+    reader computes those on a plane or a cylinder exactly itself (OpenCASCADE writes them as
+    B-splines, which would more than double a plate's file), but approximates those on a fitted
+    surface or a revolved arc to 1e-7 mm or worse, more than it then allows the edge (see
+    :mod:`camfab.export.step_surfaces`)."""
     import io
 
     from OCP.APIHeaderSection import APIHeaderSection_MakeHeader
     from OCP.IFSelect import IFSelect_ReturnStatus
     from OCP.Interface import Interface_Static
-    from OCP.STEPControl import STEPControl_AsIs, STEPControl_Writer
-    from OCP.TCollection import TCollection_HAsciiString
+    from OCP.STEPCAFControl import STEPCAFControl_Writer
+    from OCP.STEPControl import STEPControl_AsIs
+    from OCP.TCollection import TCollection_ExtendedString, TCollection_HAsciiString
+    from OCP.TDataStd import TDataStd_Name
+    from OCP.TDocStd import TDocStd_Document
+    from OCP.TopLoc import TopLoc_Location
+    from OCP.XCAFDoc import XCAFDoc_DocumentTool
+
+    def named(label: Any, text: str) -> Any:
+        TDataStd_Name.Set_s(label, TCollection_ExtendedString(text))
+        return label
 
     _quiet()
-    writer = STEPControl_Writer()  # (sets the translator's parameters up first)
+    document = TDocStd_Document(TCollection_ExtendedString("camfab"))
+    tool = XCAFDoc_DocumentTool.ShapeTool_s(document.Main())
+    names = _names(name, len(shapes))
+    parts = [named(tool.AddShape(shape, False), part)
+             for shape, part in zip(shapes, names, strict=True)]
+    if len(parts) > 1:
+        assembly = named(tool.NewShape(), name)
+        for part, called in zip(parts, names, strict=True):
+            named(tool.AddComponent(assembly, part, TopLoc_Location()), called)
+        tool.UpdateAssemblies()
+    writer = STEPCAFControl_Writer()  # (sets the translator's parameters up first)
     Interface_Static.SetCVal_s("write.step.schema", "AP214IS")
     Interface_Static.SetCVal_s("write.step.unit", "MM")
-    Interface_Static.SetIVal_s("write.surfacecurve.mode", 0)
-    for shape in shapes:
-        writer.Transfer(shape, STEPControl_AsIs)
-    header = APIHeaderSection_MakeHeader(writer.Model())
+    Interface_Static.SetIVal_s("write.surfacecurve.mode", 1 if pcurves else 0)
+    writer.SetNameMode(True)
+    if not writer.Transfer(document, STEPControl_AsIs):
+        raise RuntimeError("OpenCASCADE could not translate the part to STEP")
+    header = APIHeaderSection_MakeHeader(writer.ChangeWriter().Model())
     header.SetName(TCollection_HAsciiString(name))
     header.SetTimeStamp(TCollection_HAsciiString(TIME_STAMP))
     for text, setter in (("camfab", header.SetOriginatingSystem),
@@ -315,27 +289,25 @@ def _written(shapes: list[Any], name: str) -> bytes:
     header.SetAuthorValue(1, TCollection_HAsciiString("camfab"))
     header.SetOrganizationValue(1, TCollection_HAsciiString("camfab"))
     stream = io.BytesIO()
-    if writer.WriteStream(stream) != IFSelect_ReturnStatus.IFSelect_RetDone:
+    if writer.ChangeWriter().WriteStream(stream) != IFSelect_ReturnStatus.IFSelect_RetDone:
         raise RuntimeError("OpenCASCADE could not write the STEP file")
-    return _products_named(stream.getvalue(), name, len(shapes))
+    return _occurrences_numbered(stream.getvalue())
 
 
-def _products_named(data: bytes, name: str, count: int) -> bytes:
-    """*data* with each product named for its part (*name*, or ``NAME-a``, ``NAME-b`` for a
-    pair) instead of the translator's name and a counter that runs on through the process,
-    which would make each build's bytes differ."""
+def _occurrences_numbered(data: bytes) -> bytes:
+    """*data* with the assembly's occurrences numbered 1, 2… in the file's order instead of by
+    OpenCASCADE's counter, which runs on through the process and would make each build's bytes
+    differ."""
     import re
 
-    names = [name] if count == 1 else [f"{name}-{chr(ord('a') + i)}" for i in range(count)]
-    seen: dict[bytes, bytes] = {}
+    numbers = itertools.count(1)
+    return re.sub(rb"NEXT_ASSEMBLY_USAGE_OCCURRENCE\('[^']*'",
+                  lambda _: b"NEXT_ASSEMBLY_USAGE_OCCURRENCE('%d'" % next(numbers), data)
 
-    def named(match: re.Match[bytes]) -> bytes:
-        key = match.group(0)
-        if key not in seen:
-            seen[key] = f"'{names[min(len(seen), count - 1)]}'".encode()
-        return seen[key]
 
-    return re.sub(rb"'Open CASCADE STEP translator [^']*'", named, data)
+def _names(name: str, count: int) -> list[str]:
+    """The products' names: *name* for one solid, ``NAME-a``, ``NAME-b``… for a pair's."""
+    return [name] if count == 1 else [f"{name}-{chr(ord('a') + i)}" for i in range(count)]
 
 
 def _volume(solid: Solid) -> float:
