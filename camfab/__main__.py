@@ -1,5 +1,5 @@
 """``python -m camfab`` runs the command line."""
 
-from camfab.cli import main
+from camfab.start import main
 
 main()

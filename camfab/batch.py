@@ -1,25 +1,26 @@
 """Batches of designs: run one task per design file, in parallel processes when asked, and sum up.
 
-A failure of one design (invalid, or a failed check) never stops the others; the batch's exit
-status is the worst of them. Worker processes live for the whole batch. Where the platform
+A failure of one design (invalid, or a failed check, or a worker process dying under it) never
+stops the others; the batch's exit status is the worst of them. Worker processes live for the
+whole batch (:mod:`camfab.workers`). Where the platform
 forks (Linux; not macOS), the batch's process imports what the task needs once, and the workers
 are forked from it with all of it imported; elsewhere each worker imports the libraries itself,
 once for the whole batch. Results are reported in the order the designs were given, whatever order
-they finish in; a progress bar on stderr counts them as they finish.
+they finish in; a progress bar on stderr counts them in that order.
 """
 
 from __future__ import annotations
 
 import sys
 import time
-from collections.abc import Callable, Iterator, Sequence
-from contextlib import contextmanager, suppress
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from functools import partial
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
-    from concurrent.futures import ProcessPoolExecutor
+    from camfab.workers import Died
 
 #: A batch of at least this many designs shows a progress bar when stderr is a terminal.
 PROGRESS_FROM = 8
@@ -59,7 +60,7 @@ def run_all(paths: Sequence[str], out_dir: Path | None, jobs: int, task: Task,
     """*task* on every design of *paths*, in *jobs* worker processes (1: in this process), the
     outcomes in the order of *paths*; *progress* shows a bar on stderr. *preload* imports what
     *task* needs: called once in this process before the workers are forked from it, when
-    workers run and the platform forks (see :func:`worker_pool`)."""
+    workers run and the platform forks (see :func:`camfab.workers.worker_pool`)."""
     bar = progress_bar(len(paths)) if progress else None
     try:
         if jobs == 1 or len(paths) == 1:
@@ -69,94 +70,29 @@ def run_all(paths: Sequence[str], out_dir: Path | None, jobs: int, task: Task,
                 if bar is not None:
                     bar.update(1)
             return outcomes
-        from concurrent.futures import as_completed
+        from camfab.workers import Died, in_order
 
-        results: list[Outcome | None] = [None] * len(paths)
-        pool = worker_pool(min(jobs, len(paths)), preload)
-        try:
-            with signals_held():  # the pool is set up whole; the workers ignore Ctrl-C
-                futures = {pool.submit(_timed, task, path, out_dir): i
-                           for i, path in enumerate(paths)}
-            for future in as_completed(futures):
-                results[futures[future]] = future.result()
-                if bar is not None:
-                    bar.update(1)
-        except BaseException:  # Ctrl-C, SIGTERM: the designs being built are finished (their
-            # files written whole), the others not started
-            with signals_held():  # a second signal must not break off the shutdown
-                pool.shutdown(wait=True, cancel_futures=True)
-            raise
-        with signals_held():
-            pool.shutdown()
-        return [r for r in results if r is not None]
+        outcomes = []
+        calls = ((path, out_dir) for path in paths)
+        for (path, _), result in in_order(partial(_call, task), calls, min(jobs, len(paths)),
+                                          preload, len(paths)):
+            outcomes.append(_died(path, result) if isinstance(result, Died) else result)
+            if bar is not None:
+                bar.update(1)
+        return outcomes
     finally:
         if bar is not None:
             bar.render_finish()
 
 
-def worker_pool(workers: int, preload: Callable[[], object] | None) -> ProcessPoolExecutor:
-    """A pool of *workers* processes, forked from this one after *preload* where the platform
-    forks: they start with what *preload* imported instead of each importing it again, and with
-    this process's signal handlers, as :func:`_worker` expects.
-
-    Forking is safe because *preload* only imports: no thread of this process is left running
-    that a worker could inherit holding a lock. A stopping signal waits for *preload* to end (a
-    fraction of a second): raised inside an import, it can be printed as ignored there, or leave
-    half-made objects that complain on the way out. What is loaded by then is frozen out of the
-    garbage collector's reach (:func:`gc.freeze`): the workers' collections skip it, and this
-    process, which ends with the batch, does not sweep it again on the way out.
-
-    Without fork, and on macOS, whose system libraries are not safe to fork, the platform's
-    default start (spawn): each worker imports what it needs itself."""
-    import gc
-    import multiprocessing
-    import sys
-    from concurrent.futures import ProcessPoolExecutor
-
-    context = None
-    if "fork" in multiprocessing.get_all_start_methods() and sys.platform != "darwin":
-        if preload is not None:
-            # a stop waits for the imports (broken off, they leave noise); an import that fails
-            # fails again in each design's build, which reports it as that design's error
-            with signals_held(), suppress(Exception):
-                preload()
-        gc.freeze()
-        context = multiprocessing.get_context("fork")
-    return ProcessPoolExecutor(max_workers=workers, mp_context=context, initializer=_worker)
+def _call(task: Task, call: tuple[str, Path | None]) -> Outcome:
+    return _timed(task, *call)
 
 
-#: The signals that stop camfab (Ctrl-C, SIGTERM, SIGHUP), by name.
-_STOPPING = ("SIGINT", "SIGTERM", "SIGHUP")
-
-
-@contextmanager
-def signals_held() -> Iterator[None]:
-    """Hold the signals that stop camfab while the pool of workers is set up: a stop raised
-    inside ``submit``, between forking the workers and starting the thread that feeds them,
-    leaves workers that wait for work forever and a process that waits for them at exit. The
-    signals come once the pool is whole, and the workers start with them held."""
-    import signal
-
-    if not hasattr(signal, "pthread_sigmask"):
-        yield
-        return
-    held = {getattr(signal, name) for name in _STOPPING if hasattr(signal, name)}
-    old = signal.pthread_sigmask(signal.SIG_BLOCK, held)
-    try:
-        yield
-    finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, old)
-
-
-def _worker() -> None:
-    """A worker ignores Ctrl-C: the batch's process stops the batch and lets a worker finish
-    the design it is writing; SIGTERM and SIGHUP stop it as they stop camfab."""
-    import signal
-
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    if hasattr(signal, "pthread_sigmask"):
-        signal.pthread_sigmask(signal.SIG_UNBLOCK, {getattr(signal, name) for name in _STOPPING
-                                                    if hasattr(signal, name)})
+def _died(path: str, died: Died) -> Outcome:
+    """The outcome of a design whose worker died under it: FAIL, saying so (its earlier files,
+    if any, are left as they were: a build's set is renamed into place whole)."""
+    return Outcome(1, out=[f"{Path(path).name}: FAIL — {died.words()}"], name=Path(path).name)
 
 
 def same_names(paths: Sequence[str]) -> dict[int, Outcome]:

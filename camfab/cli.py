@@ -20,7 +20,7 @@ import click
 
 from camfab import __version__
 from camfab.batch import PROGRESS_FROM, Outcome
-from camfab.stopping import defer
+from camfab.stopping import RECEIVED, Interrupted, catch, stop_line
 
 if TYPE_CHECKING:
     from camfab.analysis.record import Analysis
@@ -30,66 +30,6 @@ if TYPE_CHECKING:
 STARTER_KINDS = ("disc-roller", "disc-knife", "disc-flat", "disc-mushroom", "oscillating",
                  "oscillating-flat", "cylindrical", "circular-arc", "tangent", "groove",
                  "conjugate", "constant-breadth", "linear", "globoidal")
-
-
-class Interrupted(BaseException):
-    """A signal asking camfab to stop (SIGTERM, SIGHUP): raised where the program is, so that
-    every ``finally`` and cleanup runs, as Ctrl-C's KeyboardInterrupt does."""
-
-    def __init__(self, signum: int) -> None:
-        super().__init__(signum)
-        self.signum = signum
-
-
-#: The signals received, noted as well as raised: a library that catches every exception while
-#: it is imported (optional imports tried in a ``try``) swallows the raise, not the note.
-_RECEIVED: list[int] = []
-
-
-def _raise_interrupted(signum: int, frame: Any) -> None:
-    import signal
-
-    if signum not in _RECEIVED:
-        _RECEIVED.append(signum)
-    if defer(signum):  # raised again where the code that must not be broken into ends
-        return
-    if _ignores_exceptions(frame):
-        # raised here it would be printed as "Exception ignored" and lost: deliver the signal
-        # again in a moment, when the main thread is back in ordinary code
-        import threading
-
-        timer = threading.Timer(0.02, signal.pthread_kill,
-                                (threading.main_thread().ident, signum))
-        timer.daemon = True
-        timer.start()
-        return
-    if signum == signal.SIGINT:
-        raise KeyboardInterrupt
-    raise Interrupted(signum)
-
-
-def _ignores_exceptions(frame: Any) -> bool:
-    """True when *frame* runs where Python prints and drops an exception: the import system's
-    callbacks, and the logging module's fork hooks (a library starting a subprocess)."""
-    if frame is None:
-        return False
-    code = frame.f_code
-    return (code.co_filename.startswith("<frozen importlib")
-            or code.co_name in ("_releaseLock", "_acquireLock", "_at_fork_reinit",
-                                "_after_at_fork_child_reinit_locks"))
-
-
-def _catch_signals() -> None:
-    """Ctrl-C, SIGTERM and SIGHUP raise where the program is (unless they are ignored, as in a
-    shell's background job) and are noted in :data:`_RECEIVED`."""
-    import signal
-
-    if signal.getsignal(signal.SIGINT) is signal.default_int_handler:
-        signal.signal(signal.SIGINT, _raise_interrupted)
-    for name in ("SIGTERM", "SIGHUP"):
-        number = getattr(signal, name, None)
-        if number is not None and signal.getsignal(number) == signal.SIG_DFL:
-            signal.signal(number, _raise_interrupted)
 
 
 @contextmanager
@@ -120,12 +60,13 @@ class _Camfab(click.Group):
 
     def main(self, args: Any = None, prog_name: str | None = None,
              complete_var: str | None = None, standalone_mode: bool = True,
-             **extra: Any) -> Any:
+             process: bool = False, **extra: Any) -> Any:
+        """Run the command; *process*: as the ``camfab`` program (:mod:`camfab.start`), which
+        ends when it returns."""
         import signal
 
-        _RECEIVED.clear()
-        _catch_signals()
-        if standalone_mode:
+        catch()
+        if standalone_mode or process:
             _freeze_at_exit()
         try:
             result = super().main(args, prog_name, complete_var, standalone_mode=False, **extra)
@@ -133,9 +74,9 @@ class _Camfab(click.Group):
         except SystemExit as exc:  # the commands' sys.exit(status)
             code = exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 1)
         except click.exceptions.Abort:  # click's form of Ctrl-C (KeyboardInterrupt)
-            _RECEIVED.append(signal.SIGINT)
+            RECEIVED.append(signal.SIGINT)
         except Interrupted as exc:
-            _RECEIVED.append(exc.signum)
+            RECEIVED.append(exc.signum)
         except click.exceptions.NoArgsIsHelpError as exc:  # a bare ``camfab``: the help
             click.echo(exc.format_message(), err=True)
             code = exc.exit_code
@@ -143,15 +84,13 @@ class _Camfab(click.Group):
             click.echo(_usage_line(exc), err=True)
             code = exc.exit_code
         except Exception:
-            if not _RECEIVED:
+            if not RECEIVED:
                 raise
             # a library caught the signal's raise and wrapped it in its own error (pydantic
             # building a model's schema while camfab imports it): it is still the signal
-        if _RECEIVED:
-            signum = _RECEIVED[0]
-            click.echo("camfab: interrupted" if signum == signal.SIGINT else
-                       f"camfab: stopped by signal {signum}", err=True)
-            code = 128 + signum
+        if RECEIVED:
+            click.echo(stop_line(RECEIVED[0]), err=True)
+            code = 128 + RECEIVED[0]
         if standalone_mode:
             sys.exit(code)
         return code
@@ -286,7 +225,12 @@ def _size_one(path: str, with_offset: bool, with_pivot: bool) -> Outcome:
 @click.option("-j", "--jobs", type=click.IntRange(1, 256), default=None,
               help="Worker processes (default: all the processors).")
 @click.option("--scheduler", metavar="tcp://HOST:8786",
-              help="Run on the Dask cluster of this scheduler (needs camfab[cluster]).")
+              help="Run on the Dask cluster of the scheduler at tcp://HOST:PORT or HOST:PORT "
+                   "(not tls://; needs camfab[cluster]). It must take the connection within 5 s "
+                   "and answer within 10 s.")
+@click.option("--cluster-timeout", type=float, default=None, metavar="SECONDS",
+              help="With --scheduler: how long to wait for the cluster's first worker when it "
+                   "has none (default 60; 0: do not wait; at most 86400).")
 @click.option("--size", is_flag=True,
               help="Also find each variant's least base radius (a drum's radius) that meets its "
                    "limits (some hundredths of a second a variant).")
@@ -300,9 +244,9 @@ def _size_one(path: str, with_offset: bool, with_pivot: bool) -> Outcome:
 @click.option("--progress/--no-progress", default=None,
               help="Show a progress bar on stderr (default: when stderr is a terminal).")
 def sweep(design: str, vary: tuple[str, ...], variants: Path | None, out_dir: Path | None,
-          jobs: int | None, scheduler: str | None, size: bool, build_best: int,
-          minimize: str | None, maximize: str | None, table_format: str | None,
-          progress: bool | None) -> None:
+          jobs: int | None, scheduler: str | None, cluster_timeout: float | None, size: bool,
+          build_best: int, minimize: str | None, maximize: str | None,
+          table_format: str | None, progress: bool | None) -> None:
     """Sweep DESIGN over varied keys: validate and analyse every variant (no files), one row of
     key numbers each (status OK, FAIL or INVALID; pressure angle, curvature, undercut, motion
     maxima, face width, jump speed, contact force; contact stress, residual vibration, the
@@ -315,7 +259,7 @@ def sweep(design: str, vary: tuple[str, ...], variants: Path | None, out_dir: Pa
         progress = sys.stderr.isatty()
     options = SweepOptions(Path(design), vary, variants, out_dir,
                            jobs or _processors(), scheduler, size, build_best, minimize,
-                           maximize, table_format, progress)
+                           maximize, table_format, progress, cluster_timeout=cluster_timeout)
     sys.exit(_finish([_guarded(design, lambda: _sweep_one(options))]))
 
 
@@ -482,8 +426,8 @@ def _guarded(path: str, work) -> Outcome:
                 warnings.simplefilter("ignore", RuntimeWarning)
             return work()
     except Exception as exc:
-        if _RECEIVED:  # a library caught the signal's raise and wrapped it (pydantic's schemas)
-            raise Interrupted(_RECEIVED[0]) from None
+        if RECEIVED:  # a library caught the signal's raise and wrapped it (pydantic's schemas)
+            raise Interrupted(RECEIVED[0]) from None
         if isinstance(exc, CamfabError):
             return Outcome(2, err=[str(exc)])
         if os.environ.get("CAMFAB_DEBUG"):

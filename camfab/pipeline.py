@@ -2,25 +2,22 @@
 atomically.
 
 The kinds describe and read back, the format writers serialise; this module decides which files
-a design gets and writes them through temporary files renamed into place, so an interrupted or
-failed build leaves earlier outputs intact.
+a design gets and writes them as one set (:mod:`camfab.writing`), so an interrupted or failed
+build leaves earlier outputs intact.
 """
 
 from __future__ import annotations
 
-import glob
-import os
-import secrets
-from collections.abc import Callable, Iterable, Mapping
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, BinaryIO
+from typing import TYPE_CHECKING, Any
 
 from camfab import __version__
 from camfab.analysis.kinematics import MotionUnits, continuity_findings, segment_stats
 from camfab.analysis.record import Analysis
 from camfab.design import Design
-from camfab.errors import OutputError
+from camfab.writing import write_files
 
 if TYPE_CHECKING:
     from camfab.analysis.sizing import Sizing
@@ -276,89 +273,6 @@ def render(analysis: Analysis) -> Artifacts:
         for suffix, renderer in RENDERERS[output]:
             files[analysis.design.name + suffix] = renderer(analysis)
     return Artifacts(files, tuple(missing), analysis)
-
-
-def write_files(folder: Path, files: Mapping[str, bytes]) -> list[Path]:
-    """Write *files* into *folder* atomically: all to temporary files first, then renamed.
-
-    The files get the permissions the umask allows (as any other program's would), not a
-    temporary file's private 0600. Temporary files are removed on every way out (an error,
-    Ctrl-C, SIGTERM); those a killed build left behind are removed by the next build of the
-    same files.
-
-    Raises
-    ------
-    OutputError
-        The folder or a file cannot be written; no file of *files* is changed then.
-    """
-    try:
-        folder.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise OutputError(f"{folder}: cannot create the output folder ({exc.strerror})") from None
-    remove_stale_temps(folder, files)
-    temps: list[tuple[Path, Path]] = []
-    try:
-        for name, data in files.items():
-            temp, stream = open_temp(folder, name)
-            temps.append((temp, folder / name))
-            with stream:
-                stream.write(data)
-        for temp, final in temps:
-            os.replace(temp, final)
-    except BaseException as exc:
-        for temp, _ in temps:
-            temp.unlink(missing_ok=True)
-        if isinstance(exc, OSError):
-            raise OutputError(f"{folder}: cannot write the outputs ({exc.strerror or exc})") \
-                from None
-        raise
-    return [final for _, final in temps]
-
-
-_O_BINARY = getattr(os, "O_BINARY", 0)
-
-#: A temporary file older than this (seconds) is stale even when its process id is in use again.
-STALE_TEMP_SECONDS = 24 * 3600
-
-
-def open_temp(folder: Path, name: str) -> tuple[Path, BinaryIO]:
-    """A new temporary file for the file *name* in *folder*, ``.NAME.PID.RANDOM.tmp`` (hidden,
-    and telling which process writes it), open for writing, with the permissions the umask
-    allows (not a temporary file's private 0600): its path and its stream."""
-    temp = folder / f".{name}.{os.getpid()}.{secrets.token_hex(4)}.tmp"
-    handle = os.open(temp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | _O_BINARY, 0o666)
-    return temp, os.fdopen(handle, "wb")
-
-
-def remove_stale_temps(folder: Path, names: Iterable[str]) -> None:
-    """Remove the temporary files of *names* in *folder* that no running build writes: their
-    process is gone (a build killed with SIGKILL, a power cut), or they are older than
-    :data:`STALE_TEMP_SECONDS`. A concurrent build's temporary files are left alone."""
-    import time
-
-    now = time.time()
-    for name in names:
-        for temp in folder.glob(f".{glob.escape(name)}.*.tmp"):
-            pid_text = temp.name[len(name) + 2:].split(".", 1)[0]
-            try:
-                old = now - temp.stat().st_mtime > STALE_TEMP_SECONDS
-                if old or not pid_text.isdigit() or not _running(int(pid_text)):
-                    temp.unlink()
-            except OSError:  # gone already, or not ours to remove
-                continue
-
-
-def _running(pid: int) -> bool:
-    """True when a process *pid* exists on this machine."""
-    if pid == os.getpid() or os.name == "nt":  # Windows' os.kill(pid, 0) sends a Ctrl-C
-        return True
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except (PermissionError, OSError, OverflowError):
-        return True  # someone else's process, or a platform that cannot tell: leave it
-    return True
 
 
 @dataclass(frozen=True)

@@ -1,17 +1,38 @@
-"""Signals that stop camfab, put off while code runs that an exception must not break into.
+"""Signals that stop camfab: caught from the program's first instruction, raised where the
+program is, and put off while code runs that an exception must not break into.
 
-camfab's handlers of Ctrl-C, SIGTERM and SIGHUP (:mod:`camfab.cli`) raise where the program
-is. Some places must not see that raise: a library half imported (its objects half made, which
-complain as they are collected), or a native library's call that runs Python inside it (an
-exception there ends the process). Code in :func:`deferred` has a stop noted instead, and
-raised as the block ends; the handler asks :func:`defer` whether to wait. A stop still comes
-within the block's time (a fraction of a second) and ends camfab as any other.
+camfab's handlers of Ctrl-C, SIGTERM and SIGHUP (:func:`catch`, installed by
+:mod:`camfab.start` before anything else is imported) raise where the program is, so that every
+``finally`` and cleanup runs; the command line turns the stop into one line and the status
+128 + the signal (130, 143). Some places must not see that raise: a library half imported (its
+objects half made, which complain as they are collected), or a native library's call that runs
+Python inside it (an exception there ends the process). Code in :func:`deferred` has a stop
+noted instead, and raised as the block ends; the handler asks :func:`defer` whether to wait. A
+stop still comes within the block's time (a fraction of a second) and ends camfab as any other.
 """
 
 from __future__ import annotations
 
 from collections.abc import Iterator
 from contextlib import contextmanager
+from typing import Any
+
+#: The signals that stop camfab (Ctrl-C, SIGTERM, SIGHUP), by name.
+STOPPING = ("SIGINT", "SIGTERM", "SIGHUP")
+
+
+class Interrupted(BaseException):
+    """A signal asking camfab to stop (SIGTERM, SIGHUP): raised where the program is, so that
+    every ``finally`` and cleanup runs, as Ctrl-C's KeyboardInterrupt does."""
+
+    def __init__(self, signum: int) -> None:
+        super().__init__(signum)
+        self.signum = signum
+
+
+#: The signals received, noted as well as raised: a library that catches every exception while
+#: it is imported (optional imports tried in a ``try``) swallows the raise, not the note.
+RECEIVED: list[int] = []
 
 #: How deep the program is in :func:`deferred` blocks, and the stops noted meanwhile.
 _DEPTH: list[int] = []
@@ -42,3 +63,95 @@ def defer(signum: int) -> bool:
         _PENDING.append(signum)
         return True
     return False
+
+
+def raise_interrupted(signum: int, frame: Any) -> None:
+    """The handler of the stopping signals: note *signum*, then raise KeyboardInterrupt (Ctrl-C)
+    or :class:`Interrupted` where the program is, unless it is put off (:func:`deferred`) or
+    the program is where Python would print and drop the exception."""
+    import signal
+
+    if signum not in RECEIVED:
+        RECEIVED.append(signum)
+    if defer(signum):  # raised again where the code that must not be broken into ends
+        return
+    if _ignores_exceptions(frame):
+        # raised here it would be printed as "Exception ignored" and lost: deliver the signal
+        # again in a moment, when the main thread is back in ordinary code
+        import threading
+
+        timer = threading.Timer(0.02, signal.pthread_kill,
+                                (threading.main_thread().ident, signum))
+        timer.daemon = True
+        timer.start()
+        return
+    if signum == signal.SIGINT:
+        raise KeyboardInterrupt
+    raise Interrupted(signum)
+
+
+def _ignores_exceptions(frame: Any) -> bool:
+    """True when *frame* runs where Python prints and drops an exception: the import system's
+    callbacks, and the logging module's fork hooks (a library starting a subprocess)."""
+    if frame is None:
+        return False
+    code = frame.f_code
+    return (code.co_filename.startswith("<frozen importlib")
+            or code.co_name in ("_releaseLock", "_acquireLock", "_at_fork_reinit",
+                                "_after_at_fork_child_reinit_locks"))
+
+
+def catch() -> None:
+    """Ctrl-C, SIGTERM and SIGHUP raise where the program is (unless they are ignored, as in a
+    shell's background job) and are noted in :data:`RECEIVED`."""
+    import signal
+
+    if signal.getsignal(signal.SIGINT) in (signal.default_int_handler, raise_interrupted):
+        signal.signal(signal.SIGINT, raise_interrupted)
+    for name in STOPPING[1:]:
+        number = getattr(signal, name, None)
+        if number is not None and signal.getsignal(number) in (signal.SIG_DFL,
+                                                                raise_interrupted):
+            signal.signal(number, raise_interrupted)
+
+
+def stop_line(signum: int) -> str:
+    """The one line a stop by *signum* prints."""
+    import signal
+
+    return ("camfab: interrupted" if signum == signal.SIGINT else
+            f"camfab: stopped by signal {signum}")
+
+
+@contextmanager
+def signals_held() -> Iterator[None]:
+    """Hold the signals that stop camfab for the block (they come, in order, as it ends): for
+    work that must be done whole or not at all — a set of files renamed into place, a pool of
+    workers set up (a stop raised inside ``submit``, between forking the workers and starting
+    the thread that feeds them, leaves workers that wait for work forever)."""
+    import signal
+
+    if not hasattr(signal, "pthread_sigmask"):
+        yield
+        return
+    held = {getattr(signal, name) for name in STOPPING if hasattr(signal, name)}
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, held)
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+
+
+def hold_to_the_end() -> int | None:
+    """Hold the stopping signals for the rest of the process (its exit and the interpreter's
+    shutdown, when Python's own handlers are gone and a signal would kill it without a word),
+    and return the first one that came meanwhile or was noted (None: none)."""
+    import signal
+
+    if hasattr(signal, "pthread_sigmask"):
+        held = {getattr(signal, name) for name in STOPPING if hasattr(signal, name)}
+        signal.pthread_sigmask(signal.SIG_BLOCK, held)
+        pending = sorted(signal.sigpending() & held)
+        if pending and not RECEIVED:
+            RECEIVED.append(pending[0])
+    return RECEIVED[0] if RECEIVED else None

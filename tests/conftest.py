@@ -8,6 +8,7 @@ import json
 import math
 import os
 import shutil
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -113,3 +114,14 @@ def every_build(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Built]:
         report = json.loads(artifacts.files[f"{design.name}-report.json"])
         built[name] = Built(design, folder, report, artifacts.not_produced)
     return built
+
+
+@pytest.fixture(autouse=True)
+def _no_stop_noted() -> Iterator[None]:
+    """Each test starts and ends with no stopping signal noted (:data:`camfab.stopping.RECEIVED`),
+    whatever a test before it raised."""
+    from camfab import stopping
+
+    stopping.RECEIVED.clear()
+    yield
+    stopping.RECEIVED.clear()

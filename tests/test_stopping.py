@@ -7,14 +7,14 @@ import signal
 
 import pytest
 
-from camfab import cli
+from camfab import cli, stopping
 from camfab.stopping import deferred
 
 
 @pytest.mark.parametrize("signum", [signal.SIGTERM, signal.SIGINT])
 def test_a_stop_inside_a_deferred_block_is_raised_at_its_end(monkeypatch, signum: int) -> None:
-    monkeypatch.setattr(cli, "_RECEIVED", [])
-    old = signal.signal(signum, cli._raise_interrupted)
+    stopping.RECEIVED.clear()
+    old = signal.signal(signum, stopping.raise_interrupted)
     reached = []
     try:
         with pytest.raises((cli.Interrupted, KeyboardInterrupt)) as caught, deferred():
@@ -26,14 +26,14 @@ def test_a_stop_inside_a_deferred_block_is_raised_at_its_end(monkeypatch, signum
     finally:
         signal.signal(signum, old)
     assert reached == ["after the signal", "after the inner block"]
-    assert cli._RECEIVED == [signum]
+    assert stopping.RECEIVED == [signum]
     if signum == signal.SIGTERM:
         assert isinstance(caught.value, cli.Interrupted) and caught.value.signum == signum
 
 
 def test_outside_a_deferred_block_a_stop_raises_where_the_program_is(monkeypatch) -> None:
-    monkeypatch.setattr(cli, "_RECEIVED", [])
-    old = signal.signal(signal.SIGTERM, cli._raise_interrupted)
+    stopping.RECEIVED.clear()
+    old = signal.signal(signal.SIGTERM, stopping.raise_interrupted)
     reached = []
     try:
         with pytest.raises(cli.Interrupted):

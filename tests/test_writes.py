@@ -15,8 +15,8 @@ from pathlib import Path
 
 import pytest
 
-from camfab import pipeline
-from camfab.pipeline import STALE_TEMP_SECONDS, remove_stale_temps, write_files
+from camfab import writing
+from camfab.writing import STALE_TEMP_SECONDS, remove_stale_temps, write_files
 
 from .conftest import DESIGNS, run_cli
 
@@ -63,8 +63,8 @@ def test_an_interrupted_write_removes_its_temporary_files(tmp_path: Path, monkey
             raise error("stop")
         real(src, dst)
 
-    monkeypatch.setattr(pipeline.os, "replace", interrupted)
-    with pytest.raises((error, pipeline.OutputError)):
+    monkeypatch.setattr(writing.os, "replace", interrupted)
+    with pytest.raises((error, writing.OutputError)):
         write_files(folder, FILES)
     assert _temps(folder) == []
 
@@ -160,13 +160,13 @@ def test_a_signal_a_library_wrapped_is_still_the_signal(monkeypatch, signum: int
     """pydantic builds a model's schema on first use and wraps whatever is raised inside it in
     its own SchemaError: a SIGTERM arriving then must stop camfab as a signal, not be reported
     as an internal error of the design."""
-    from camfab import cli
+    from camfab import cli, stopping
 
     def work() -> cli.Outcome:
-        cli._RECEIVED.append(signum)  # what the handler notes before it raises
+        stopping.RECEIVED.append(signum)  # what the handler notes before it raises
         raise RuntimeError("SchemaError: Error building ... Interrupted: 15")
 
-    monkeypatch.setattr(cli, "_RECEIVED", [])
+    stopping.RECEIVED.clear()
     with pytest.raises(cli.Interrupted) as caught:
         cli._guarded("d.yaml", work)
     assert caught.value.signum == signum
@@ -177,14 +177,14 @@ def test_a_wrapped_signal_outside_a_design_is_still_the_signal(monkeypatch, caps
     before a batch starts): status 143 and the one line, not a traceback."""
     import click
 
-    from camfab import cli
+    from camfab import cli, stopping
 
     @click.command("wrapped-signal")
     def wrapped() -> None:
-        cli._RECEIVED.append(signal.SIGTERM)
+        stopping.RECEIVED.append(signal.SIGTERM)
         raise RuntimeError("SchemaError: Error building ... Interrupted: 15")
 
-    monkeypatch.setattr(cli, "_RECEIVED", [])
+    stopping.RECEIVED.clear()
     monkeypatch.setitem(cli.main.commands, "wrapped-signal", wrapped)
     old = {s: signal.getsignal(s) for s in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)}
     try:

@@ -460,12 +460,19 @@ class Manufacturing(Frozen):
     cutter_radius: NonNegativeLength = 0.0
 
 
+#: What a design's ``name`` may be (it names the output files and folders): it starts with a
+#: letter or digit, so that neither ``".."`` nor ``"."`` nor a hidden ``".x"`` can place the
+#: files elsewhere, and holds no separator.
+NAME_PATTERN = r"^[a-z0-9][a-z0-9._-]*$"
+#: The longest ``name`` (characters).
+NAME_LENGTH = 100
+
+
 class Design(Frozen):
     """A whole cam design, validated."""
 
-    #: Names the output files and folder: it starts with a letter or digit, so that neither
-    #: ``".."`` nor ``"."`` nor a hidden ``".x"`` can place the files elsewhere.
-    name: Annotated[str, Field(min_length=1, max_length=100, pattern=r"^[a-z0-9][a-z0-9._-]*$")]
+    #: Names the output files and folder (:data:`NAME_PATTERN`).
+    name: Annotated[str, Field(min_length=1, max_length=NAME_LENGTH, pattern=NAME_PATTERN)]
     description: str = ""
     units: Literal["mm", "in"] = "mm"
     cam: Cam

@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
     from camfab.analysis.record import Analysis
+    from camfab.workers import Died
 
 #: The key numbers of a row, by column name, in order (units in the names; the motion's are SI:
 #: m/s, m/s², m/s³ for a translating follower, rad/s, rad/s², rad/s³ for an oscillating one,
@@ -111,6 +112,14 @@ def row(base: dict[str, Any], file: str, folder: Path, keys: Sequence[tuple[str 
     if size:
         numbers = (*numbers, least_size(design))
     return (index, *values, status, message, *numbers)
+
+
+def died_row(variant: tuple[int, tuple[Any, ...]], died: Died, size: bool = False) -> Row:
+    """The row of a variant (index, values) whose worker process died analysing it: FAIL,
+    saying so, its numbers blank."""
+    index, values = variant
+    blank = (None,) * (len(NUMBERS) + (len(SIZE_NUMBERS) if size else 0))
+    return (index, *values, "FAIL", died.words(), *blank)
 
 
 def key_numbers(analysis: Analysis) -> tuple[Any, ...]:

@@ -17,10 +17,11 @@ from functools import partial
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from camfab.sweep.rows import Row, columns, evaluate
+from camfab.sweep.rows import Row, columns, died_row, evaluate
 from camfab.sweep.vary import SweepError, Variants, from_file, from_varies, parse_vary
 
 if TYPE_CHECKING:
+    from camfab.design.source import SourceDocument
     from camfab.sweep.page import Region
 
 #: The design-file errors that say a ``--vary`` gives a value of the wrong kind or names no key
@@ -48,6 +49,7 @@ class SweepOptions:
     maximize: str | None = None
     table_format: str | None = None  # parquet | csv | None: parquet when pyarrow is installed
     progress: bool = False
+    cluster_timeout: float | None = None  # s; None: engines.CLUSTER_SECONDS with --scheduler
 
 
 @dataclass
@@ -106,11 +108,32 @@ def plan(options: SweepOptions) -> Plan:
     objective = _objective(options, cols, kinds)
     if options.table_format == "parquet" and not parquet_available():
         raise SweepError("--format parquet needs pyarrow: pip install 'camfab[sweep]'")
-    name = doc.data.get("name") if isinstance(doc.data.get("name"), str) else None
-    name = name or options.design.stem
+    from camfab.sweep.engines import check_scheduler
+    check_scheduler(options.scheduler, options.cluster_timeout)
+    name = _name(doc, options.design)
     out_dir = options.out_dir or Path("exports") / f"{name}-sweep"
     return Plan(options, doc.data, doc.file, doc.folder, name, variants, cols, kinds,
                 objective, out_dir)
+
+
+def _name(doc: SourceDocument, design: Path) -> str:
+    """The sweep's name: the design's ``name`` by the rule a build applies (it names files in
+    the output folder and nowhere else), else the design file's stem."""
+    import re
+
+    from camfab.design.model import NAME_LENGTH, NAME_PATTERN
+    from camfab.errors import DesignError
+
+    name = doc.data.get("name")
+    if not isinstance(name, str) or not name:
+        return design.stem
+    if len(name) > NAME_LENGTH:
+        raise DesignError(f"must be at most {NAME_LENGTH} characters", field="name",
+                          location=doc.locate(("name",)))
+    if not re.fullmatch(NAME_PATTERN, name):
+        raise DesignError("must start with a letter or digit and use only a-z, 0-9, '.', '_' "
+                          "and '-'", field="name", location=doc.locate(("name",)), got=name)
+    return name
 
 
 def _objective(options: SweepOptions, cols: Sequence[str],
@@ -124,7 +147,7 @@ def _objective(options: SweepOptions, cols: Sequence[str],
                              "--minimize cam.base_radius")
         return None
     flag = "--minimize" if options.minimize else "--maximize"
-    if column not in cols or kinds[column] not in ("int", "float"):
+    if column not in cols or kinds[column] not in ("int", "float") or column == "variant":
         numeric = [c for c in cols if kinds[c] in ("int", "float") and c != "variant"]
         raise SweepError(f"{flag} {column}: not a numeric column of the table (allowed: "
                          f"{', '.join(numeric)})")
@@ -164,9 +187,11 @@ def _check_paths(data: dict[str, Any], file: str, folder: Path, variants: Varian
 def run(sweep: Plan, echo: Callable[[str], None] = print) -> Sweep:
     """Run *sweep*: the table, the page and the best builds (see the module)."""
     from camfab.batch import progress_bar
+    from camfab.errors import OutputError
     from camfab.sweep.engines import BATCH, DASK_BATCH, dask_rows, local_rows
     from camfab.sweep.page import Region, axis_of
     from camfab.sweep.table import TableWriter, cell, parquet_available, typed
+    from camfab.writing import make_folder, remove_made
 
     options, variants = sweep.options, sweep.variants
     parquet = (options.table_format == "parquet"
@@ -174,15 +199,13 @@ def run(sweep: Plan, echo: Callable[[str], None] = print) -> Sweep:
     task = partial(evaluate, sweep.data, sweep.file, sweep.folder, variants.keys,
                    size=options.size)
     if options.scheduler:  # (the scheduler reached before anything is written)
-        stream = dask_rows(task, variants.batches(DASK_BATCH), options.scheduler)
+        stream = dask_rows(task, variants.batches(DASK_BATCH), options.scheduler,
+                           options.cluster_timeout)
     else:
         stream = local_rows(task, variants.batches(BATCH), options.jobs,
-                            lambda: task([(0, variants.values(0))]))
-    try:
-        sweep.out_dir.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise SweepError(f"{sweep.out_dir}: cannot create the output folder "
-                         f"({exc.strerror})") from None
+                            lambda: task([(0, variants.values(0))]),
+                            partial(died_row, size=options.size))
+    made = make_folder(sweep.out_dir)
     axes = [[cell(v, sweep.kinds[path]) for v in variants.taken(i)]
             for i, path in enumerate(variants.paths)]
     region = Region(axis_of(variants.paths[0], axes[0]),
@@ -191,12 +214,13 @@ def run(sweep: Plan, echo: Callable[[str], None] = print) -> Sweep:
     counts = {"OK": 0, "FAIL": 0, "INVALID": 0}
     best: list[tuple[float, int, Row]] = []
     shown: list[Row] = []
-    writer = TableWriter(sweep.out_dir, f"{sweep.name}-sweep", sweep.columns, sweep.kinds,
-                         parquet)
+    writer: TableWriter | None = None
     bar = progress_bar(variants.count, "sweeping") if options.progress else None
     start = time.perf_counter()
     stopped = False
     try:
+        writer = TableWriter(sweep.out_dir, f"{sweep.name}-sweep", sweep.columns, sweep.kinds,
+                             parquet)
         for rows in stream:
             rows = [typed(r, sweep.columns, sweep.kinds) for r in rows]
             writer.add(rows)
@@ -206,20 +230,31 @@ def run(sweep: Plan, echo: Callable[[str], None] = print) -> Sweep:
             _keep_best(rows, sweep, status_at, best, shown)
             if bar is not None:
                 bar.update(len(rows))
-    except BaseException:
+    except OutputError:  # nothing is written: the table's temporary file is gone already
+        remove_made(sweep.out_dir, made)
+        raise
+    except BaseException:  # a stop: the rows so far are written
         stopped = True
         raise
     finally:
         if bar is not None:
             bar.render_finish()
         seconds = time.perf_counter() - start
-        table = writer.close()
-        ranked = [r for _, _, r in sorted(best, key=lambda item: (-item[0], -item[1]))]
-        page = _write_page(sweep, counts, seconds, region, ranked or shown, table, stopped)
-        if stopped:
-            echo(f"{sweep.name}: stopped after {writer.rows:,} of {variants.count:,} variants; "
-                 f"wrote {table} and {page} with them")
-    outcome = Sweep(table, page, counts, writer.rows, seconds)
+        if writer is not None and writer.temp is not None and writer.temp.exists():
+            ranked = [r for _, _, r in sorted(best, key=lambda item: (-item[0], -item[1]))]
+            try:
+                table = writer.finish()
+                page = _write_page(sweep, counts, seconds, region, ranked or shown, table,
+                                   stopped)
+            except OutputError:
+                writer.discard()
+                remove_made(sweep.out_dir, made)
+                raise
+            if stopped:
+                echo(f"{sweep.name}: stopped after {writer.rows:,} of {variants.count:,} "
+                     f"variants; wrote {table[1]} and {page} with them")
+    assert writer is not None
+    outcome = Sweep(table[1], page, counts, writer.rows, seconds)
     if options.build_best and ranked:
         outcome.built = _build_best(sweep, ranked[:options.build_best])
     return outcome
@@ -246,10 +281,11 @@ def _keep_best(rows: Sequence[Row], sweep: Plan, status_at: int,
 
 
 def _write_page(sweep: Plan, counts: dict[str, int], seconds: float, region: Region,
-                rows: Sequence[Row], table: Path, stopped: bool) -> Path:
-    """The summary page written into the sweep's folder (see :mod:`camfab.sweep.page`)."""
-    from camfab.pipeline import write_files
+                rows: Sequence[Row], table: tuple[Path, Path], stopped: bool) -> Path:
+    """The summary page written into the sweep's folder (see :mod:`camfab.sweep.page`), with
+    the *table* (its temporary and final paths) renamed into place beside it."""
     from camfab.sweep.page import render_page
+    from camfab.writing import write_files
 
     variants = sweep.variants
     if variants.varies:
@@ -264,9 +300,9 @@ def _write_page(sweep: Plan, counts: dict[str, int], seconds: float, region: Reg
         objective = f"{'least' if sweep.objective[1] < 0 else 'greatest'} {sweep.objective[0]}"
     data = render_page(f"{sweep.name}-sweep", str(sweep.options.design), varied, counts,
                        seconds, region, shown, [tuple(r[i] for i in at) for r in rows],
-                       objective, table.name, stopped)
+                       objective, table[1].name, stopped)
     name = f"{sweep.name}-sweep.html"
-    write_files(sweep.out_dir, {name: data})
+    write_files(sweep.out_dir, {name: data}, [table])
     return sweep.out_dir / name
 
 
@@ -280,8 +316,9 @@ def _build_best(sweep: Plan, rows: Sequence[Row]) -> list[tuple[Path, int]]:
     and built into ``best/NAME-vINDEX/``: (folder, exit status) each."""
     import yaml
 
-    from camfab.pipeline import build, write_files
+    from camfab.pipeline import build
     from camfab.sweep.vary import with_values
+    from camfab.writing import write_files
 
     folder = sweep.out_dir / "best"
     built = []

@@ -11,8 +11,8 @@ one of those. Rows go out in groups of :data:`GROUP_ROWS`; the bytes depend only
 
 from __future__ import annotations
 
-import os
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager, suppress
 from importlib.util import find_spec
 from pathlib import Path
 from typing import Any
@@ -30,31 +30,37 @@ def parquet_available() -> bool:
 
 class TableWriter:
     """Rows appended in order to ``folder/name`` (``.parquet`` or ``.csv``) through a temporary
-    file; :meth:`close` renames it into place."""
+    file; :meth:`finish` completes it for the renaming. Any failure to write (a folder it may
+    not write, a full disk) removes the temporary file and raises
+    :class:`~camfab.errors.OutputError`: ``FOLDER: cannot write the outputs (reason)``."""
 
     def __init__(self, folder: Path, stem: str, columns: Sequence[str],
                  kinds: dict[str, str], parquet: bool) -> None:
-        from camfab.pipeline import open_temp, remove_stale_temps
+        from camfab.writing import open_temp, remove_stale_temps
 
         self.columns = tuple(columns)
         self.kinds = kinds
         self.parquet = parquet
         self.path = folder / f"{stem}.{'parquet' if parquet else 'csv'}"
-        remove_stale_temps(folder, [self.path.name])
-        self.temp, self._stream = open_temp(folder, self.path.name)
+        self.temp: Path | None = None
+        self._stream: Any = None
         self._buffer: list[Row] = []
         self._writer: Any = None
         self.rows = 0
-        if not parquet:
-            self._stream.write((",".join(_csv_cell(c) for c in self.columns) + "\n")
-                               .encode("utf-8"))
+        with self._guard():
+            remove_stale_temps(folder, [self.path.name])
+            self.temp, self._stream = open_temp(folder, self.path.name)
+            if not parquet:
+                self._stream.write((",".join(_csv_cell(c) for c in self.columns) + "\n")
+                                   .encode("utf-8"))
 
     def add(self, rows: Sequence[Row]) -> None:
         """Append *rows* (in order)."""
         self._buffer.extend(rows)
         self.rows += len(rows)
         if len(self._buffer) >= GROUP_ROWS:
-            self._flush()
+            with self._guard():
+                self._flush()
 
     def _flush(self) -> None:
         while self._buffer:
@@ -79,26 +85,51 @@ class TableWriter:
             self._writer = pq.ParquetWriter(self._stream, schema, compression="zstd")
         self._writer.write_table(table, row_group_size=GROUP_ROWS)
 
-    def close(self) -> Path:
-        """The rows flushed and the file renamed into place; its path."""
-        try:
+    def finish(self) -> tuple[Path, Path]:
+        """The rows flushed and the file closed: (its temporary path, its final path), for
+        :func:`camfab.writing.write_files` to rename with the files written beside it."""
+        assert self.temp is not None
+        with self._guard():
             self._flush()
             if self.parquet:
                 if self._writer is None:
                     self._parquet([])
                 self._writer.close()
             self._stream.close()
-            os.replace(self.temp, self.path)
-        except BaseException:
-            self.discard()
-            raise
-        return self.path
+        return self.temp, self.path
 
     def discard(self) -> None:
         """The temporary file removed (nothing written)."""
-        self._stream.close()
-        self.temp.unlink(missing_ok=True)
+        with suppress(Exception):  # a full disk refuses the close's flush as well
+            if self._stream is not None:
+                self._stream.close()
+        if self.temp is not None:
+            self.temp.unlink(missing_ok=True)
 
+    @contextmanager
+    def _guard(self) -> Iterator[None]:
+        """A failure to write inside the block: the temporary file removed, and one line."""
+        try:
+            yield
+        except BaseException as exc:
+            if not _write_failure(exc):
+                raise
+            from camfab.writing import cannot_write
+
+            self.discard()
+            if not isinstance(exc, OSError):  # pyarrow's own error of a write
+                exc = OSError(" ".join(str(exc).split())[:200])
+            raise cannot_write(self.path.parent, exc) from None
+
+
+def _write_failure(exc: BaseException) -> bool:
+    """True when *exc* is a failure to write: an OSError, or pyarrow's error of one."""
+    if isinstance(exc, OSError):
+        return True
+    import sys
+
+    arrow = sys.modules.get("pyarrow.lib")
+    return arrow is not None and isinstance(exc, arrow.ArrowException)
 
 
 def _arrow(kind: str) -> Any:

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 import re
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -25,6 +25,11 @@ MAX_VARIANTS = 10_000_000
 MAX_VALUES = 1_000_000
 #: The largest ``--variants`` file (bytes).
 MAX_VARIANTS_BYTES = 64 * 2**20
+#: The most rows a ``--variants`` file gives (count): each is held in memory (a product of
+#: ``--vary`` options is counted instead, up to :data:`MAX_VARIANTS`).
+MAX_FILE_VARIANTS = 1_000_000
+#: The most keys one sweep varies (count).
+MAX_KEYS = 100
 
 _PATH = re.compile(r"^[a-z_][a-z0-9_]*(\[\d+\])?(\.[a-z_][a-z0-9_]*(\[\d+\])?)*$")
 _PART = re.compile(r"([a-z_][a-z0-9_]*)(?:\[(\d+)\])?")
@@ -102,8 +107,8 @@ def parse_spec(spec: str, option: str) -> tuple[Any, ...]:
         n = int(count)
         if n == 1:
             return (start,)
-        ratio = math.log(stop / start)
-        return tuple(_tidy(start * math.exp(ratio * i / (n - 1))) for i in range(n))
+        low, ratio = math.log(start), math.log(stop) - math.log(start)  # (no overflow)
+        return tuple(_tidy(math.exp(low + ratio * i / (n - 1))) for i in range(n))
     if ":" in spec and "," not in spec:
         parts = spec.split(":")
         if len(parts) != 3:
@@ -114,13 +119,19 @@ def parse_spec(spec: str, option: str) -> tuple[Any, ...]:
         if step == 0:
             raise SweepError(f"{option}: the step must not be 0")
         span = (stop - start) / step
+        if not math.isfinite(span):  # the difference overflowed; each quotient may not
+            span = stop / step - start / step
         if span < -1e-9:
             raise SweepError(f"{option}: the range is empty (a step of {parts[2]} never goes "
                              f"from {parts[0]} to {parts[1]})")
+        if not span < MAX_VALUES:  # (infinite too: a step too small to count)
+            raise SweepError(f"{option}: more than {MAX_VALUES:,} values; at most "
+                             f"{MAX_VALUES:,}")
         count = math.floor(span + 1e-9) + 1
-        if count > MAX_VALUES:
-            raise SweepError(f"{option}: {count:,} values; at most {MAX_VALUES:,}")
-        return tuple(_tidy(start + i * step) for i in range(count))
+        values = tuple(_tidy(_step_value(start, step, i)) for i in range(count))
+        if not all(math.isfinite(v) for v in values):
+            raise SweepError(f"{option}: the range goes past the largest number")
+        return values
     items = [item.strip() for item in spec.split(",")]
     if not any(items):
         raise SweepError(f"{option}: the list is empty")
@@ -129,6 +140,13 @@ def parse_spec(spec: str, option: str) -> tuple[Any, ...]:
     if len(items) > MAX_VALUES:
         raise SweepError(f"{option}: {len(items):,} values; at most {MAX_VALUES:,}")
     return tuple(scalar(item) for item in items)
+
+
+def _step_value(start: float, step: float, i: int) -> float:
+    """The *i*-th value of a range from *start* by *step*: ``start + i·step``, or, where that
+    overflows on the way, ``(start/step + i)·step``."""
+    value = start + i * step
+    return value if math.isfinite(value) else (start / step + i) * step
 
 
 def _tidy(value: float) -> float:
@@ -191,9 +209,11 @@ class Variants:
 def from_varies(varies: Sequence[Vary]) -> Variants:
     """The product of the ``--vary`` options (raises :class:`SweepError`)."""
     paths = [v.path for v in varies]
-    repeated = sorted({p for p in paths if paths.count(p) > 1})
+    if len(paths) > MAX_KEYS:
+        raise SweepError(f"--vary: {len(paths):,} keys varied; at most {MAX_KEYS}")
+    repeated = _repeated(paths)
     if repeated:
-        raise SweepError(f"--vary {repeated[0]}: given twice")
+        raise SweepError(f"--vary {repeated}: given twice")
     if count_of(varies) > MAX_VARIANTS:
         raise SweepError(f"--vary: {count_of(varies):,} variants; at most {MAX_VARIANTS:,}")
     return Variants(tuple(paths), tuple(v.keys for v in varies), tuple(varies))
@@ -201,7 +221,8 @@ def from_varies(varies: Sequence[Vary]) -> Variants:
 
 def from_file(path: Path) -> Variants:
     """The variants of a CSV file: a header of PATHs, then one row of values per variant
-    (raises :class:`SweepError`)."""
+    (raises :class:`SweepError`). Each limit is checked as soon as the file passes it: its size
+    before it is read, its keys at the header, its rows as they are read."""
     import csv
     import io
 
@@ -217,25 +238,73 @@ def from_file(path: Path) -> Variants:
         text = raw.decode("utf-8-sig")
     except UnicodeDecodeError:
         raise SweepError(f"{option}: not a UTF-8 text file") from None
-    table = [row for row in csv.reader(io.StringIO(text)) if any(c.strip() for c in row)]
-    if not table:
+    del raw
+    reader = csv.reader(io.StringIO(text))
+    header: list[str] | None = None
+    rows: list[tuple[Any, ...]] = []
+    read = _scalars()
+    try:
+        for cells in reader:
+            if not any(c.strip() for c in cells):
+                continue
+            if header is None:
+                if len(cells) > MAX_KEYS:
+                    raise SweepError(f"{option}: the header has {len(cells):,} keys; a sweep "
+                                     f"varies at most {MAX_KEYS}")
+                header = [c.strip() for c in cells]
+                continue
+            if len(cells) != len(header):
+                raise SweepError(f"{option}: line {reader.line_num} has {len(cells)} values "
+                                 f"for {len(header)} keys")
+            if len(rows) == MAX_FILE_VARIANTS:
+                raise SweepError(f"{option}: more than {MAX_FILE_VARIANTS:,} variants; a "
+                                 f"variants file gives at most {MAX_FILE_VARIANTS:,}")
+            rows.append(tuple(read(c.strip()) for c in cells))
+    except csv.Error as exc:
+        raise SweepError(f"{option}: line {reader.line_num}: not readable as CSV "
+                         f"({' '.join(str(exc).split())[:120]})") from None
+    if header is None:
         raise SweepError(f"{option}: the file is empty (give a header of keys, then rows)")
-    header = [c.strip() for c in table[0]]
     keys = tuple(parse_path(p, f"{option}: header") for p in header)
-    repeated = sorted({p for p in header if header.count(p) > 1})
+    repeated = _repeated(header)
     if repeated:
-        raise SweepError(f"{option}: the key {repeated[0]} is given twice in the header")
-    rows = []
-    for number, row in enumerate(table[1:], start=2):
-        if len(row) != len(header):
-            raise SweepError(f"{option}: row {number} has {len(row)} values for "
-                             f"{len(header)} keys")
-        rows.append(tuple(scalar(c.strip()) for c in row))
+        raise SweepError(f"{option}: the key {repeated} is given twice in the header")
     if not rows:
         raise SweepError(f"{option}: no variants (only the header)")
-    if len(rows) > MAX_VARIANTS:
-        raise SweepError(f"{option}: {len(rows):,} variants; at most {MAX_VARIANTS:,}")
     return Variants(tuple(header), keys, rows=tuple(rows))
+
+
+def _repeated(paths: Sequence[str]) -> str | None:
+    """The first of *paths* (in sorted order) given more than once, or None."""
+    from collections import Counter
+
+    return min((p for p, n in Counter(paths).items() if n > 1), default=None)
+
+
+_INT = re.compile(r"[-+]?(?:0|[1-9][0-9]*)")
+_FLOAT = re.compile(r"[-+]?[0-9]+\.[0-9]+")
+
+
+def _scalars() -> Callable[[str], Any]:
+    """:func:`scalar`, remembered for each text it is given, and at once for plain decimal
+    numbers (read as YAML reads them): a variants file's million cells take seconds, not
+    minutes."""
+    seen: dict[str, Any] = {}
+
+    def read(text: str) -> Any:
+        value = seen.get(text)
+        if value is None:
+            if _INT.fullmatch(text):
+                value = int(text)
+            elif _FLOAT.fullmatch(text):
+                value = float(text)
+            else:
+                value = scalar(text)
+            if len(seen) < MAX_FILE_VARIANTS:
+                seen[text] = value
+        return value
+
+    return read
 
 
 def with_values(data: dict[str, Any], keys: Sequence[tuple[str | int, ...]],

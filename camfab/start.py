@@ -1,0 +1,34 @@
+"""The ``camfab`` program's first instructions (its entry point, and ``python -m camfab``).
+
+The stopping signals (Ctrl-C, SIGTERM, SIGHUP) are caught before anything else is imported
+(:func:`camfab.stopping.catch`): a stop while the command line's modules load is the same one
+line and status (130, 143) as a stop during a build, not Python's traceback. At the end, the
+signals are held for the process's exit (:func:`camfab.stopping.hold_to_the_end`): Python gives
+up its handlers as it shuts down, and a signal then would end camfab without a word; one that
+came after the command's own line is said the same way.
+"""
+
+from __future__ import annotations
+
+import sys
+
+
+def main() -> None:
+    """Run the command line as the ``camfab`` program, and exit with its status."""
+    from camfab.stopping import RECEIVED, catch, hold_to_the_end, stop_line
+
+    catch()
+    code: int | None = None
+    try:
+        from camfab.cli import main as command
+
+        code = command.main(prog_name="camfab", standalone_mode=False, process=True)
+    except BaseException:
+        if not RECEIVED:
+            raise
+    signum = hold_to_the_end()
+    if signum is not None and code != 128 + signum:  # the stop came after the command's line
+        sys.stderr.write(stop_line(signum) + "\n")
+        code = 128 + signum
+    sys.stdout.flush()
+    sys.exit(code)
