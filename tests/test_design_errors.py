@@ -142,6 +142,9 @@ CASES = [
     ("name-dot-dot", "name: bad-design", "name: '..'", 1, "name", "start with a letter"),
     ("name-dot", "name: bad-design", "name: '.'", 1, "name", "start with a letter"),
     ("name-hidden", "name: bad-design", "name: .cam", 1, "name", "start with a letter"),
+    # a path no file system takes: a NUL character ("\\0" in YAML's double quotes)
+    ("table-csv-nul", "law: harmonic}", 'law: table, csv: "lift\\0.csv"}', 16, "motion[0].csv",
+     "a path holds no NUL character (got 'lift\\x00.csv')"),
 ]
 
 

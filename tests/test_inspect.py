@@ -362,7 +362,7 @@ def test_bad_input_exits_2_with_one_line_and_writes_nothing(tmp_path: Path, case
     elif case == "no-follower":
         profile = _write_points(tmp_path / "scan.csv", _eccentric_points())
         args = []
-        expect = "follower: not given"
+        expect = "scan.csv: no follower to run over the outline"
     elif case == "align-without-design":
         profile = _write_points(tmp_path / "scan.csv", _eccentric_points())
         args = ["--type", "knife", "--align"]

@@ -333,17 +333,23 @@ def test_an_open_polyline_whose_ends_meet_is_an_outline(tmp_path: Path) -> None:
 
 
 @pytest.mark.parametrize(("change", "said"), [
-    ("degree", "degree 40"), ("points", "control and fit points")])
+    ("degree", "degree 40"), ("points", "control and fit points"),
+    ("knots", "ezdxf's audit of the damaged file")])
 def test_splines_are_read_within_limits(tmp_path: Path, change: str, said: str) -> None:
+    """A spline of a degree or with more points than inspect flattens in a second is refused,
+    naming it; one whose knots do not fit its degree (a damaged file) ezdxf's audit removes,
+    and the refusal says so."""
     doc, path = _dxf(tmp_path / "spline.dxf")
     msp = doc.modelspace()
     points = _eccentric(3000 if change == "points" else 60)
     if change == "points":
         msp.add_spline(fit_points=[(x, y) for x, y in points], dxfattribs={"layer": "CUT"})
     else:
-        spline = msp.add_open_spline([(x, y) for x, y in points], degree=3,
+        spline = msp.add_open_spline([(x, y) for x, y in points],
+                                     degree=40 if change == "degree" else 3,
                                      dxfattribs={"layer": "CUT"})
-        spline.dxf.degree = 40
+        if change == "knots":
+            spline.dxf.degree = 40
     doc.saveas(path)
     _refused(tmp_path, path, "--design", str(ECCENTRIC), said=(said,))
 
@@ -364,6 +370,63 @@ def test_long_lines_with_only_tiny_arcs_are_not_cut_into_millions_of_points(
     assert run.code == 0, run.stderr[-2000:]
     assert run.cpu_s < 20.0 and run.peak_mb < 1000.0, (run.cpu_s, run.peak_mb)
     assert (tmp_path / "out" / "square-inspection.html").stat().st_size < 1_000_000
+
+
+# -- damaged DXF: read through ezdxf's recover path ----------------------------------------------
+
+def _damaged(dxf: Path, damage: str, path: Path) -> Path:
+    """*dxf* (camfab's) written to *path* with *damage*: ``huge-code`` the group code of the
+    VIEW table's TABLE tag replaced by a huge number; ``swapped-code`` the handle's group code
+    (5) of the first entity on layer PITCH replaced by 0, so that its handle reads as the type
+    of an entity; ``duplicated-lines`` the 24 lines after that group code duplicated."""
+    lines = dxf.read_text().splitlines()
+    if damage == "huge-code":
+        k = next(i for i in range(len(lines) - 2) if lines[i] == "TABLE" and
+                 lines[i + 2] == "VIEW")
+        lines[k - 1] = "1000000"
+    else:
+        codes = range(lines.index("ENTITIES") + 1, len(lines) - 1, 2)  # the group codes
+        layer = next(i for i in codes if lines[i].strip() == "8" and lines[i + 1] == "PITCH")
+        handle = max(i for i in codes if i < layer and lines[i].strip() == "0") + 2
+        assert lines[handle].strip() == "5"
+        if damage == "swapped-code":
+            lines[handle] = "  0"
+        else:
+            lines[handle + 1:handle + 1] = lines[handle + 1:handle + 25]
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+@pytest.mark.parametrize("damage", ["huge-code", "swapped-code", "duplicated-lines"])
+def test_a_damaged_dxf_whose_outline_is_whole_is_inspected(built: Path, tmp_path: Path,
+                                                           damage: str) -> None:
+    """Group codes out of step with their values stopped the plain reader (StopIteration) or
+    left an entity without a layer (an internal error); ezdxf's recover path reads what is
+    there, and the outline, untouched, inspects as the intact drawing does."""
+    intact = built / "seed-10-4.dxf"
+    path = _damaged(intact, damage, tmp_path / f"{damage}.dxf")
+    assert path.read_bytes() != intact.read_bytes()
+    deviations = []
+    for profile in (intact, path):
+        code, err, out = _inspect(tmp_path, profile, "--design", str(SEED))
+        assert code == 0, err
+        report = json.loads((out / f"{profile.stem}-inspection.json").read_text())
+        deviations.append(report["deviation"]["max_mm"])
+    assert deviations[1] == pytest.approx(deviations[0], abs=1e-12)
+
+
+@pytest.mark.parametrize(("content", "said"), [
+    (b"", "is not a readable DXF file"),
+    (b"x,y\n0,0\n1,0\n0,1\n", "is not a readable DXF file"),
+    (b"  0\nEOF\n", "is not a readable DXF file"),
+    (b"  0\nSECTION\n  2\nENTITIES\nLINE\n  0\nENDSEC\n  0\nEOF\n",
+     "is not a readable DXF file"),
+])
+def test_a_file_that_is_no_dxf_is_refused_as_not_readable(tmp_path: Path, content: bytes,
+                                                          said: str) -> None:
+    path = tmp_path / "drawing.dxf"
+    path.write_bytes(content)
+    _refused(tmp_path, path, "--design", str(ECCENTRIC), said=(said,))
 
 
 # -- options ------------------------------------------------------------------------------------
@@ -402,6 +465,47 @@ def test_a_designs_table_step_finer_than_any_table_is_refused(built: Path,
         err = _refused(tmp_path, built / "seed-10-4.dxf", "--design", str(design), *extra,
                        said=("table_step: must be at least 0.01°",), named=f"{design}:")
         assert "(got 1e-09)" in err
+
+
+#: A follower file's content (None: none given), the command line, where the refusal names
+#: (``FILE``: the follower file, ``PROFILE``: the outline, else that option) and what it says.
+FOLLOWER_REFUSALS = [
+    ("type: rollr\nroller_radius: 5\n", [], "FILE: type", "unknown follower type 'rollr'"),
+    ("type: 5\n", [], "FILE: type", "unknown follower type '5'"),
+    ("roller_radius: 5\n", [], "FILE: type", "not given"),
+    ("type: knife\nmotion: swinging\n", [], "FILE: motion",
+     "must be translating or oscillating"),
+    ("type: roller\n", [], "FILE", "a roller follower needs roller_radius"),
+    ("type: knife\npivot_distance: 80\n", [], "FILE",
+     "an oscillating follower needs pivot_distance and arm_length"),
+    ("type: knife\npivot_distance: 80\narm_length: 60\npivot_side: up\n", [],
+     "FILE: pivot_side", "must be right or left"),
+    ("type: knife\ntolerance: -1\n", [], "FILE: tolerance", "must be > 0"),
+    ("type: knife\noffset: 1000\n", [], "PROFILE", "the follower does not touch the outline"),
+    (None, [], "PROFILE", "no follower to run over the outline"),
+    (None, ["--type", "roller"], "--roller-radius", "not given"),
+    (None, ["--type", "mushroom"], "--face-radius", "not given"),
+    (None, ["--type", "knife", "--arm-length", "40"], "--pivot-distance", "not given"),
+    (None, ["--type", "knife", "--offset", "1000"], "PROFILE",
+     "the follower does not touch the outline"),
+]
+
+
+@pytest.mark.parametrize(("follower", "args", "named", "said"), FOLLOWER_REFUSALS)
+def test_a_follower_refusal_names_its_file_or_option(built: Path, tmp_path: Path,
+                                                     follower: str | None, args: list[str],
+                                                     named: str, said: str) -> None:
+    """Each refusal of the follower names where the value at fault was given: the follower
+    file (and its key), the option, or the outline when nothing gives a follower or the
+    follower misses it — never a bare "follower"."""
+    profile = built / "seed-10-4.dxf"
+    named = named.replace("PROFILE", str(profile))
+    if follower is not None:
+        file = tmp_path / "follower.yaml"
+        file.write_text(follower)
+        args = ["--follower", str(file), *args]
+        named = named.replace("FILE", str(file))
+    _refused(tmp_path, profile, *args, said=(said,), named=f"{named}: ")
 
 
 # -- CSV ----------------------------------------------------------------------------------------
@@ -463,8 +567,8 @@ def test_csv_layouts_read_the_same_points(tmp_path: Path, layout: str) -> None:
 def test_a_follower_off_the_designs_base_circle_is_refused(tmp_path: Path) -> None:
     """seed-10-4's roller (7 mm) at an offset of 30 mm cannot reach its base circle (20 mm)."""
     path = _csv(tmp_path / "notched.csv", "commas", _notched())
-    err = _refused(tmp_path, path, "--design", str(SEED), "--offset", "30", named="follower")
-    assert "seed-10-4" in err or "base circle" in err, err
+    _refused(tmp_path, path, "--design", str(SEED), "--offset", "30", named=f"{SEED}: ",
+             said=("the follower ",))
 
 
 def test_a_csv_whose_first_line_is_a_comma_is_refused_on_that_line(tmp_path: Path) -> None:
@@ -524,3 +628,21 @@ def test_files_that_are_not_regular_or_too_large_are_refused_at_once(tmp_path: P
                      wall_s=120.0)
     _assert_refused_child(run, named, said)
     assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("which", ["profile", "design", "follower"])
+def test_a_nul_in_a_path_is_refused_naming_it(built: Path, tmp_path: Path, which: str) -> None:
+    """A path holding a NUL character (which no file system takes, and Python refuses with a
+    ValueError before asking one) is refused as a file that cannot be read. The command line
+    cannot pass one (a process's arguments cannot hold it), so the library is called."""
+    from camfab.errors import CamfabError
+    from camfab.inspect import InspectOptions, inspect
+
+    bad = tmp_path / "a\0b"
+    given = {"profile": built / "seed-10-4.dxf", "design": SEED, "out_dir": tmp_path / "out"}
+    given["follower_file" if which == "follower" else which] = bad
+    with pytest.raises(CamfabError) as refusal:
+        inspect(InspectOptions(**given))
+    assert str(refusal.value).startswith(f"{bad}: "), refusal.value
+    assert "\n" not in str(refusal.value)
+    assert sorted(p.name for p in tmp_path.iterdir()) == []

@@ -495,10 +495,9 @@ def problems(case: Case, outcome: dict) -> list[str]:
 
 
 def _names_the_culprit(line: str, case: Case) -> bool:
-    """True when the refusal begins with the outline file (and a line), the design, the
-    follower, or an option."""
-    heads = [case.profile, "follower", "--", *(str(p) for p in
-                                               (SEED_DESIGN, ECCENTRIC, OSCILLATING))]
+    """True when the refusal begins with the outline file (and a line), the design or an
+    option."""
+    heads = [case.profile, "--", *(str(p) for p in (SEED_DESIGN, ECCENTRIC, OSCILLATING))]
     return any(line.startswith(head) for head in heads)
 
 

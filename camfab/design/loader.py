@@ -389,17 +389,21 @@ class _Shaper:
         from camfab.errors import InputFileError
         from camfab.files import read_bounded
 
+        if "\0" in name:  # no file system takes one; Python refuses it before asking
+            self.fail(path, "must be the path of a CSV file, and a path holds no NUL character",
+                      got=name)
         folder = self.doc.folder.resolve()
         file = (folder / name).resolve()
         if Path(name).is_absolute() or not file.is_relative_to(folder):
             self.fail(path, "must name a file in the design file's folder or below it (a "
                       "relative path such as 'lift.csv' or 'data/lift.csv')", got=name)
+        shown = name if name.isprintable() else repr(name)
         try:
             return read_bounded(file, MAX_TABLE_BYTES, "a table").decode("utf-8-sig")
         except InputFileError as exc:
-            self.fail(path, f"cannot read the table: {name} {exc.problem}")
+            self.fail(path, f"cannot read the table: {shown} {exc.problem}")
         except UnicodeDecodeError:
-            self.fail(path, f"cannot read the table: {name} is not a UTF-8 text file")
+            self.fail(path, f"cannot read the table: {shown} is not a UTF-8 text file")
 
 
 def follower_keys(spec: CamTypeSpec | None, follower: dict[str, Any]) -> tuple[str, ...]:

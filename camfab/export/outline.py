@@ -1,6 +1,7 @@
 """Read a made or scanned cam's outline for ``camfab inspect``: a DXF drawing or a CSV of points.
 
-A DXF is read with ezdxf, whoever wrote it: LINE, ARC, CIRCLE, LWPOLYLINE (bulges kept as arcs),
+A DXF is read with ezdxf, whoever wrote it (through its recover path, which repairs what it can
+of a damaged file: :func:`_parse_dxf`): LINE, ARC, CIRCLE, LWPOLYLINE (bulges kept as arcs),
 2-D POLYLINE, and SPLINE and ELLIPSE flattened into short lines. Closed entities (and open
 polylines whose ends meet) are contours by themselves; the open ones are chained end to end
 (:mod:`camfab.geometry.chains`; ezdxf's edge miner where three or more meet at a point). The
@@ -108,6 +109,10 @@ _KERF_NOTE = re.compile(r"CUT offset for a kerf of\s*(\S*)\s*(\S*)")
 
 #: A structure tag of a DXF: group code 0 and a name (an entity, table entry, object, section).
 _DXF_OBJECT = re.compile(rb"(?m)^[ \t]*0[ \t]*\r?\n[ \t]*[A-Za-z_$]")
+
+#: The tag that opens a section of a DXF: a file without one holds no drawing (ezdxf's recover
+#: path reads anything else into an empty one).
+_DXF_SECTION = re.compile(rb"(?mi)^[ \t]*0[ \t]*\r?\n[ \t]*SECTION[ \t]*\r?$")
 
 #: What ezdxf raises on a damaged file or entity (it has no single base for them).
 _DXF_FAILURES: tuple[type[BaseException], ...] = (ValueError, TypeError, IndexError, KeyError,
@@ -372,7 +377,7 @@ def _quiet_ezdxf() -> Iterator[None]:
 def _read_drawing(name: str, data: bytes, units: str | None, default_units: str,
                   layer: str | None) -> Outline:
     _check_dxf_size(name, data)
-    doc = _parse_dxf(name, data)
+    doc, dropped = _parse_dxf(name, data)
     mm_per_unit, unit_text = _dxf_units(name, doc, units, default_units)
     msp = doc.modelspace()
     entities, chosen = _layer_entities(name, msp, layer)
@@ -381,8 +386,9 @@ def _read_drawing(name: str, data: bytes, units: str | None, default_units: str,
     _check_splines(name, entities)
     candidates = _contours(name, entities, mm_per_unit, where)
     if not candidates:
+        said = f"; ezdxf's audit of the damaged file: {_said(dropped[0])}" if dropped else ""
         raise OutlineError(name, f"has no closed contour {where} (lines, arcs, polylines, "
-                           "circles or splines meeting end to end)")
+                           f"circles or splines meeting end to end){said}")
     profile, count = max(candidates, key=lambda c: c[0].area)
     profile = _checked(name, profile.ccw(), unit_text)
     return Outline(profile, f"the largest closed contour {where}: {count} entities, "
@@ -395,6 +401,8 @@ def _check_dxf_size(name: str, data: bytes) -> None:
     seconds, before it is parsed."""
     if data[:22] == b"AutoCAD Binary DXF\r\n\x1a\x00":
         raise OutlineError(name, "is a binary DXF; save it as an ASCII DXF")
+    if _DXF_SECTION.search(data) is None:
+        raise OutlineError(name, "is not a readable DXF file (it has no SECTION)")
     tags = max(data.count(b"\n"), data.count(b"\r")) // 2
     if tags > MAX_DXF_TAGS:
         raise OutlineError(name, f"holds {tags:,} group codes; inspect reads a DXF of at most "
@@ -407,18 +415,36 @@ def _check_dxf_size(name: str, data: bytes) -> None:
                            "outline as one polyline)")
 
 
-def _parse_dxf(name: str, data: bytes) -> Any:
+def _parse_dxf(name: str, data: bytes) -> tuple[Any, list[str]]:
+    """The drawing in *data*, and what ezdxf's audit said of the outline's kinds of entity (a
+    damaged one removed), for a refusal to tell.
+
+    It is read through ezdxf's recover path: that repairs what it can of a damaged file (group
+    codes out of place, a structure tag missing, an invalid handle or number), decodes the text
+    as the file's version and code page say (bytes that are not that, as U+FFFD) and audits what
+    it read. What that cannot read (its audit trips on a damaged table or layout the outline
+    does not need) ezdxf's plain reader may; a file neither reads is refused."""
     import io
 
     from camfab.export.ezdxf_import import load_ezdxf
 
     ezdxf = load_ezdxf()
+    from ezdxf import recover
     from ezdxf.lldxf.const import DXFError
 
+    # AssertionError: ezdxf checks some of what it reads with assert
+    failures = (DXFError, StopIteration, AssertionError, *_DXF_FAILURES)
     try:
-        return ezdxf.read(io.StringIO(data.decode("utf-8", errors="replace")))
-    except (DXFError, *_DXF_FAILURES) as exc:
-        raise OutlineError(name, f"is not a readable DXF file ({_said(exc)})") from None
+        doc, auditor = recover.read(io.BytesIO(data), errors="replace")
+    except failures as exc:
+        refusal = OutlineError(name, f"is not a readable DXF file ({_said(exc)})")
+    else:
+        said = [entry.message for entry in (*auditor.errors, *auditor.fixes)]
+        return doc, [text for text in said if any(kind in text for kind in OUTLINE_TYPES)]
+    try:
+        return ezdxf.read(io.StringIO(data.decode("utf-8", errors="replace"))), []
+    except failures:
+        raise refusal from None
 
 
 def _dxf_units(name: str, doc: Any, units: str | None, default_units: str) -> tuple[float, str]:
@@ -443,7 +469,8 @@ def _layer_entities(name: str, msp: Any, layer: str | None) -> tuple[list[Any], 
     """The outline entities on *layer* (any case; default ``CUT`` when the drawing has it, else
     every layer), and the layer chosen. Matched in Python, never through a query string, so a
     layer name may hold any character."""
-    every = list(msp)
+    # an entity of a type ezdxf does not know (a damaged file's) has no layer: not drawn
+    every = [e for e in msp if e.dxf.is_supported("layer")]
     layers = {str(e.dxf.layer).upper(): str(e.dxf.layer) for e in every}
     if layer is None:
         chosen = "CUT" if "CUT" in layers else None
@@ -460,8 +487,9 @@ def _layer_entities(name: str, msp: Any, layer: str | None) -> tuple[list[Any], 
     return entities, chosen
 
 
-def _said(error: BaseException) -> str:
-    """What ezdxf said of a damaged file or entity, in at most 200 characters."""
+def _said(error: BaseException | str) -> str:
+    """What ezdxf said of a damaged file or entity (an error, or its audit's message), in at
+    most 200 characters."""
     text = " ".join(str(error).split()) or type(error).__name__
     return text if len(text) <= 200 else text[:197] + "..."
 

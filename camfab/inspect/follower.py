@@ -65,55 +65,70 @@ def read_follower_file(path: Path) -> dict[str, Any]:
 def inspection_follower(options: InspectOptions, extra: dict[str, Any],
                         design: Design | None, units: str) -> FollowerGeometry:
     """The inspection follower: the design's, then the follower file's keys, then the command
-    line's, each over the one before."""
+    line's, each over the one before. A refusal names where the value at fault came from: the
+    follower file (and its key), the option, or the outline file when no follower is given."""
     from camfab.curves.follower import FollowerGeometry
 
     fields: dict[str, Any] = {}
+    origin: dict[str, str] = {}  # key -> the file it came from; "" for the command line
     if design is not None:
         fol = design.follower
         fields = {"type": fol.type, "motion": fol.motion, "offset": fol.offset,
                   "roller_radius": fol.roller_radius, "face_radius": fol.face_radius,
                   "pivot_distance": fol.pivot_distance, "arm_length": fol.arm_length,
                   "pivot_side": fol.pivot_side, "face_offset": fol.face_offset}
-    for source, given in ((extra.get("_file", ""), extra), ("", options.follower)):
+        origin = dict.fromkeys(fields, design.source or design.name)
+    file = extra.get("_file", "")
+    for source, given in ((file, extra), ("", options.follower)):
         swinging = "pivot_distance" in given or "arm_length" in given
         for key in FOLLOWER_KEYS:
             if key not in given or given[key] is None:
                 continue
-            what = f"--{key.replace('_', '-')}" if not source else f"{source}: {key}"
+            what = _option(key) if not source else f"{source}: {key}"
             value = given[key]
             fields[key] = (length(what, value, units, "", positive=key not in
                                   ("offset", "face_offset")) if key in _LENGTH_KEYS
                            else str(value))
+            origin[key] = source
         if swinging and "motion" not in given:
             fields["motion"] = "oscillating"
+            origin["motion"] = source
+
+    def where(key: str) -> str:
+        """The follower file and *key*, or the option, that gave *key*'s value."""
+        return f"{origin[key]}: {key}" if origin.get(key) else _option(key)
+
     kind = fields.get("type")
     if kind == "spherical":
         kind = "mushroom"
     if kind is None:
-        raise InspectionError("follower", "not given: use --design, --follower FILE.yaml or "
-                              "--type with its dimensions (e.g. --type roller --roller-radius 8)")
+        if file:
+            raise InspectionError(file, "type: not given (knife, roller, flat or mushroom; or "
+                                  "give --type)")
+        raise InspectionError(str(options.profile), "no follower to run over the outline: use "
+                              "--design, --follower FILE.yaml or --type with its dimensions "
+                              "(e.g. --type roller --roller-radius 8)")
     if kind not in FOLLOWER_TYPES:
-        raise InspectionError("--type", f"unknown follower type {kind!r} (allowed: "
+        raise InspectionError(where("type"), f"unknown follower type {kind!r} (allowed: "
                               f"{', '.join(FOLLOWER_TYPES)})")
     motion = fields.get("motion", "translating")
     if motion not in ("translating", "oscillating"):
-        raise InspectionError("follower", f"motion: must be translating or oscillating (got "
+        raise InspectionError(where("motion"), f"must be translating or oscillating (got "
                               f"{motion!r})")
     radius = 0.0
     if kind in ("roller", "mushroom"):
         key = "roller_radius" if kind == "roller" else "face_radius"
         radius = fields.get(key) or 0.0
         if radius <= 0.0:
-            raise InspectionError("follower", f"a {kind} follower needs --"
-                                  f"{key.replace('_', '-')}")
+            raise _missing(origin.get("type", ""), f"a {kind} follower", (key,), (key,))
     oscillating = motion == "oscillating"
     if oscillating and not (fields.get("pivot_distance") and fields.get("arm_length")):
-        raise InspectionError("follower", "an oscillating follower needs --pivot-distance and "
-                              "--arm-length")
+        needed = ("pivot_distance", "arm_length")
+        raise _missing(origin.get("motion", ""), "an oscillating follower", needed,
+                       tuple(k for k in needed if not fields.get(k)))
     side = fields.get("pivot_side", "right")
     if side not in ("right", "left"):
-        raise InspectionError("follower", f"pivot_side: must be right or left (got {side!r})")
+        raise InspectionError(where("pivot_side"), f"must be right or left (got {side!r})")
     return FollowerGeometry(
         contact=kind, oscillating=oscillating, radius=radius,
         offset=0.0 if oscillating else float(fields.get("offset") or 0.0),
@@ -121,3 +136,20 @@ def inspection_follower(options: InspectOptions, extra: dict[str, Any],
         arm_length=float(fields.get("arm_length") or 0.0) if oscillating else 0.0,
         pivot_sign=1 if side == "right" else -1,
         face_offset=float(fields.get("face_offset") or 0.0) if oscillating else 0.0)
+
+
+def _option(key: str) -> str:
+    """The command-line option of a follower key: ``roller_radius`` -> ``--roller-radius``."""
+    return f"--{key.replace('_', '-')}"
+
+
+def _missing(source: str, follower: str, needed: tuple[str, ...], lacking: tuple[str, ...]
+             ) -> InspectionError:
+    """The refusal of a *follower*, which needs the keys *needed*, lacking some (*lacking*):
+    naming *source*, the file that made it such a follower (its type or motion), or the first
+    missing option when the command line did."""
+    if source:
+        return InspectionError(source, f"{follower} needs {' and '.join(needed)} (in this "
+                               f"file, or {' and '.join(_option(k) for k in needed)})")
+    it = "it" if len(needed) == 1 else " and ".join(_option(k) for k in needed)
+    return InspectionError(_option(lacking[0]), f"not given; {follower} needs {it}")

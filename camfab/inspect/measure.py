@@ -77,14 +77,14 @@ def derivatives(values: Array, step: float, smooth: float) -> tuple[Array, Array
 
 
 def run_follower(profile: Profile, follower: FollowerGeometry, theta: Array,
-                 sigma: int, what: str = "the outline") -> Array:
+                 sigma: int, file: str, what: str = "the outline") -> Array:
     """The trace point's height (mm) or arm angle (rad) on *profile* at cam angles *theta*.
 
     Raises
     ------
     InspectionError
-        The follower misses the outline (*what*, in the message) at some angle: its line of
-        motion or arm clears it.
+        The follower misses the outline (*what*, in the message, read from *file*, which it
+        names) at some angle: its line of motion or arm clears it.
     SimulationTooLarge
         The outline is so jagged that the run would try more than :data:`MAX_PAIRS` pairs.
     """
@@ -94,15 +94,16 @@ def run_follower(profile: Profile, follower: FollowerGeometry, theta: Array,
     missing = ~np.isfinite(position)
     if missing.any():
         where = ", ".join(f"{a:.4g}–{b:.4g}°" for a, b in ranges_deg(theta, missing)[:3])
-        raise InspectionError("follower", f"does not touch {what} at cam angles {where} "
-                              "(check the offset, pivot and the outline's centre)")
+        raise InspectionError(file, f"the follower does not touch {what} at cam angles "
+                              f"{where} (check the offset, pivot and the outline's centre)")
     return position
 
 
 def align_phase(profile: Profile, follower: FollowerGeometry, theta: Array, sigma: int,
-                position: Array, reference: Array) -> float:
-    """The angle α (rad) by which *profile* must be turned in the direction of rotation so the
-    follower's motion on it best matches *reference* (least squares over the turn).
+                position: Array, reference: Array, file: str) -> float:
+    """The angle α (rad) by which *profile* (read from *file*) must be turned in the direction
+    of rotation so the follower's motion on it best matches *reference* (least squares over
+    the turn).
 
     Turning the cam by α in its direction of rotation advances its motion by α:
     ``position'(θ) = position(θ + α)``. The best whole grid step comes from the circular
@@ -126,7 +127,8 @@ def align_phase(profile: Profile, follower: FollowerGeometry, theta: Array, sigm
 
     def misfit(alpha: float) -> float:
         turned = turn(profile, alpha, sigma)
-        return float(np.mean((run_follower(turned, follower, sparse, sigma) - target) ** 2))
+        return float(np.mean((run_follower(turned, follower, sparse, sigma, file) - target)
+                             ** 2))
 
     found = minimize_scalar(misfit, bounds=(guess - step, guess + step), method="bounded",
                             options={"xatol": 1e-5})
@@ -142,21 +144,22 @@ def turn(profile: Profile, alpha: float, sigma: int) -> Profile:
 
 
 def inspect_profile(profile: Profile, setup: InspectionSetup, reference: Reference | None = None,
-                    align: bool = False) -> Inspection:
+                    align: bool = False, *, file: str) -> Inspection:
     """Run the inspection follower over *profile* (mm, cam centre at the origin, drawn at θ = 0)
     and derive its motion; with a *reference*, its deviation from the design (after turning the
-    outline into phase with the design when *align*)."""
+    outline into phase with the design when *align*). A refusal about the outline names *file*
+    (the file it was read from)."""
     fol, sigma = setup.follower, setup.sigma
     theta, rows = grid(setup.step)
-    position = run_follower(profile, fol, theta, sigma)
+    position = run_follower(profile, fol, theta, sigma, file)
     design = None if reference is None else reference.position(theta)
     alpha = None
     if align and design is not None:
-        alpha = align_phase(profile, fol, theta, sigma, position, design)
+        alpha = align_phase(profile, fol, theta, sigma, position, design, file)
         profile = turn(profile, alpha, sigma)
-        position = run_follower(profile, fol, theta, sigma)
+        position = run_follower(profile, fol, theta, sigma, file)
     measured_base = float(profile.distance(np.zeros((1, 2)))[0])
-    base, lift_from = base_circle(fol, measured_base, position, reference)
+    base, lift_from = base_circle(fol, measured_base, position, reference, file)
     cam = DiscCam(fol, base, sigma)
     lift = position - cam.rest
     first, second = derivatives(lift, float(theta[1] - theta[0]), setup.smooth)
@@ -175,7 +178,7 @@ def inspect_profile(profile: Profile, setup: InspectionSetup, reference: Referen
 
 
 def base_circle(follower: FollowerGeometry, smallest_radius: float, position: Array,
-                reference: Reference | None) -> tuple[float, str]:
+                reference: Reference | None, file: str) -> tuple[float, str]:
     """The base circle (radius, mm) lift is measured from, and a sentence saying which.
 
     With a design, the design's base circle. Without one, the outline's *smallest_radius* (mm);
@@ -186,21 +189,23 @@ def base_circle(follower: FollowerGeometry, smallest_radius: float, position: Ar
     Raises
     ------
     InspectionError
-        The follower cannot rest on the design's base circle.
+        The follower cannot rest on the design's base circle (naming the design file), or on
+        any circle of the outline (naming *file*, the outline's).
     """
     if reference is not None:
         if not math.isfinite(_rest(follower, reference.base_radius)):
-            raise InspectionError("follower", "cannot rest on the design's base circle of radius "
-                                  f"{reference.base_radius:.6g} mm (its offset or pivot puts it "
-                                  "beyond the prime circle)")
+            raise InspectionError(reference.file, "the follower cannot rest on the design's base "
+                                  f"circle of radius {reference.base_radius:.6g} mm (its offset "
+                                  "or pivot puts it beyond the prime circle)")
         return reference.base_radius, "the design's base circle"
     if math.isfinite(_rest(follower, smallest_radius)):
         return smallest_radius, "the outline's smallest radius (its base circle)"
     lowest = float(np.min(position))
     base = _base_under(follower, lowest)
     if not (base > 0.0 and math.isfinite(_rest(follower, base))):
-        raise InspectionError("follower", "cannot rest on a base circle of the outline (its "
-                              "offset or pivot keeps it beyond every circle about the centre)")
+        raise InspectionError(file, "the follower cannot rest on a base circle of the outline "
+                              "(its offset or pivot keeps it beyond every circle about the "
+                              "centre)")
     return base, (f"the follower's lowest position (it cannot reach the outline's smallest "
                   f"radius, {smallest_radius:.6g} mm)")
 

@@ -55,7 +55,8 @@ class Reference:
     """The design's motion for the inspection follower.
 
     ``position(theta)`` is the trace point's height (mm) or arm angle (rad) at cam angles θ;
-    ``base_radius`` the design's base circle (mm); ``source`` says how the position is found.
+    ``base_radius`` the design's base circle (mm); ``source`` says how the position is found;
+    ``file`` is the design file, which a refusal about the design names.
     """
 
     position: Callable[[Array], Array]
@@ -63,6 +64,7 @@ class Reference:
     source: str
     name: str
     profile: Profile
+    file: str
 
 
 @dataclass(frozen=True)

@@ -37,7 +37,7 @@ def design_reference(analysis: Analysis, follower: FollowerGeometry) -> Referenc
         raise InspectionError(design.source or design.name,
                               f"a {design.cam.type} cam has no disc outline to inspect")
     program, cam = analysis.program, geom.cam
-    name = design.name
+    name, file = design.name, design.source or design.name
     if follower == cam.follower and not geom.undercut:
         rest = cam.rest
 
@@ -45,7 +45,7 @@ def design_reference(analysis: Analysis, follower: FollowerGeometry) -> Referenc
             return rest + program.evaluate(theta)[0]
 
         return Reference(exact, cam.base_radius, f"the design motion of {name}", name,
-                         geom.profile)
+                         geom.profile, file)
     profile = geom.profile
     source = f"the inspection follower run over {name}'s cam as cut (undercut trimmed)"
     if analysis.result.refine_for_inspection and not geom.undercut:
@@ -56,6 +56,6 @@ def design_reference(analysis: Analysis, follower: FollowerGeometry) -> Referenc
     sigma = cam.sigma
 
     def simulated(theta: Array) -> Array:
-        return run_follower(profile, follower, theta, sigma, f"the design's cam ({name})")
+        return run_follower(profile, follower, theta, sigma, file, f"the design's cam ({name})")
 
-    return Reference(simulated, cam.base_radius, source, name, profile)
+    return Reference(simulated, cam.base_radius, source, name, profile, file)

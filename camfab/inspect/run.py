@@ -44,7 +44,7 @@ def inspect(options: InspectOptions) -> InspectResult:
         prepared = prepare(options)
         try:
             inspection = inspect_profile(prepared.profile, prepared.setup, prepared.reference,
-                                         options.align)
+                                         options.align, file=str(options.profile))
         except SimulationTooLarge as exc:
             raise InspectionError(str(options.profile), f"the outline is too jagged to run the "
                                   f"follower over ({exc}): are its points in order along it? "

@@ -27,16 +27,18 @@ SMOOTH_RANGE_DEG = (0.1, 30.0)
 
 
 def length(what: str, raw: object, units: str, file: str = "", positive: bool = False) -> float:
-    """A length (mm) from a number in *units* or a string with a unit."""
+    """A length (mm) from a number in *units* or a string with a unit; a refusal names *what*
+    (an option, or a key of *file*)."""
     from camfab.design.units import LENGTH, convert
     from camfab.errors import DesignError
 
+    where = f"{file}: {what}" if file else what
     try:
         value = convert(raw, LENGTH, units)
     except DesignError as exc:
-        raise InspectionError(f"{file}: {what}" if file else what, str(exc)) from None
+        raise InspectionError(where, str(exc)) from None
     if positive and value <= 0.0:
-        raise InspectionError(what, f"must be > 0 (got {raw})")
+        raise InspectionError(where, f"must be > 0 (got {raw})")
     return value
 
 

@@ -139,7 +139,8 @@ def parse_spec(spec: str, option: str) -> tuple[Any, ...]:
         raise SweepError(f"{option}: the list has an empty item")
     if len(items) > MAX_VALUES:
         raise SweepError(f"{option}: {len(items):,} values; at most {MAX_VALUES:,}")
-    return tuple(scalar(item) for item in items)
+    read = _scalars()
+    return tuple(read(item) for item in items)
 
 
 def _step_value(start: float, step: float, i: int) -> float:
