@@ -40,6 +40,11 @@ LARGEST_SIZE = 1e100
 #: the processor's cache.
 BLOCK = 512
 
+#: Points searched at once by :func:`contour_distance`: their (point, edge) pairs of a ring stay
+#: some tens of megabytes where many edges crowd the cells (a folded groove's outline crosses
+#: itself over and over), not gigabytes for hundreds of thousands of points.
+SEARCH_BLOCK = 8192
+
 
 @dataclass(frozen=True)
 class Edges:
@@ -164,7 +169,9 @@ def contour_distance(profile: Profile, points: Array) -> Array:
         return all_pairs(edges, points)  # few pairs, or numbers a grid cannot hold
     grid = EdgeGrid.of(*edges.boxes(), RELATIVE_SLACK * (1.0 + size))
     slack = RELATIVE_SLACK * (1.0 + size + np.abs(points).sum(axis=1))
-    return _search(edges, grid, points, slack)
+    return np.concatenate([_search(edges, grid, points[i:i + SEARCH_BLOCK],
+                                   slack[i:i + SEARCH_BLOCK])
+                           for i in range(0, len(points), SEARCH_BLOCK)] or [np.zeros(0)])
 
 
 @dataclass(frozen=True)

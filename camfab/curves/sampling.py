@@ -209,6 +209,18 @@ def spread(segment: Index, theta: Array, density: Array, count: int) -> Array:
     return np.concatenate(out)
 
 
+def spread_count(segment: Index, theta: Array, density: Array, count: int) -> int:
+    """How many cam angles :func:`spread` places for the same arguments, without placing them
+    (a count, exact but for the last bit of each segment's sum): what a groove's stations
+    will cost, known before they take any memory."""
+    inner = segment[1:] == segment[:-1]
+    area = (0.5 * (density[1:] + density[:-1]) * np.diff(theta))[inner]
+    total = np.bincount(segment[1:][inner], weights=area, minlength=count)
+    with np.errstate(invalid="ignore", over="ignore"):
+        per_segment = np.maximum(2.0, np.ceil(np.nan_to_num(total, nan=np.inf)))
+    return int(min(float(per_segment.sum()), 1e18))
+
+
 #: Points across the floor and across the top of a groove in the grids of its exact surfaces,
 #: through which a STEP's surfaces are fitted (count).
 SURFACE_ACROSS = 5

@@ -16,9 +16,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from camfab.arrays import Array, Mask, signed_volume
-from camfab.curves.sampling import SURFACE_ACROSS, probe_angles, spread
-from camfab.geometry.drum import ANALYSIS_STEP, Drum, polar_to_xy
+from camfab.arrays import Array, Index, Mask, signed_volume
+from camfab.curves.sampling import SURFACE_ACROSS, probe_angles, spread, spread_count
+from camfab.geometry.drum import ANALYSIS_STEP, Drum, Walls, polar_to_xy
 from camfab.motion.program import MotionProgram
 
 #: Largest step of cam angle between stations, however straight the groove runs.
@@ -43,6 +43,13 @@ class Tube:
 def stations(d: Drum, program: MotionProgram, tolerance: float) -> Array:
     """Cam angles (rad, one turn, joints included) at which the groove's chords stay within
     *tolerance* (mm) of the walls developed at the drum's surface."""
+    return spread(*_station_density(d, program, tolerance), len(program.segments))
+
+
+def _station_density(d: Drum, program: MotionProgram,
+                     tolerance: float) -> tuple[Index, Array, Array]:
+    """The stations a radian needs (1/rad) on the program's segment grid: its segment index,
+    cam angle (rad) and density."""
     segment, theta, m = program.segment_grid(ANALYSIS_STEP)
     r = d.radius
     speed = np.hypot(r, m[1])
@@ -53,7 +60,29 @@ def stations(d: Drum, program: MotionProgram, tolerance: float) -> Array:
         step = np.sqrt(8.0 * tolerance / (rho + d.roller)) * rho / speed
     density = 1.0 / np.where(np.isfinite(step), np.minimum(step, MAX_STATION_STEP),
                              MAX_STATION_STEP)
-    return spread(segment, theta, density, len(program.segments))
+    return segment, theta, density
+
+
+#: The fewest points round the tube's section: four wall rows on either wall (the fewest
+#: :func:`_rows` gives) and none between the walls' feet on the floor.
+FEWEST_RING = 8
+
+
+def tube_facets(d: Drum, program: MotionProgram, tolerance: float, most: int) -> int:
+    """The facets (count) of :func:`groove_tube`'s tube at *tolerance* (mm), two per station
+    and point round its section. When the stations alone (with the fewest points round,
+    :data:`FEWEST_RING`) make more than *most*, that lower bound, counted before any station
+    is placed: the count never costs more than a tube of *most* facets would."""
+    segment, theta, density = _station_density(d, program, tolerance)
+    count = len(program.segments)
+    lower = 2 * spread_count(segment, theta, density, count) * FEWEST_RING
+    if lower > most:
+        return lower
+    placed = spread(segment, theta, density, count)
+    m = program.evaluate(placed)
+    radii = _rows(d, placed, m, tolerance)
+    floor = d.walls(placed, m[0], m[1], radii[0])
+    return 2 * placed.size * (2 * radii.size + _across(d, floor, tolerance) - 1)
 
 
 def _rows(d: Drum, theta: Array, m: Array, tolerance: float) -> Array:
@@ -81,6 +110,14 @@ def _rows(d: Drum, theta: Array, m: Array, tolerance: float) -> Array:
         count *= 2
 
 
+def _across(d: Drum, floor: Walls, tolerance: float) -> int:
+    """The steps across the floor (count) between the walls' feet *floor*: enough points on
+    the floor's circle for its widest stretch to hold *tolerance* (mm)."""
+    span = float(np.max(np.abs(floor.phi_upper - floor.phi_lower)))
+    step = 2.0 * math.acos(max(-1.0, 1.0 - tolerance / d.root))
+    return max(1, math.ceil(span / step))
+
+
 def _points(d: Drum, theta: Array, m: Array, r: float) -> Array:
     """Both walls at radius *r*: (2, N, 3) points, lower wall first."""
     walls = d.walls(theta, m[0], m[1], r)
@@ -95,11 +132,8 @@ def groove_tube(d: Drum, program: MotionProgram, tolerance: float) -> Tube:
     m = program.evaluate(theta)
     radii = _rows(d, theta, m, tolerance)
     walls = [d.walls(theta, m[0], m[1], r) for r in radii]
-    # across the floor: enough points on the floor's circle for the widest stretch
     floor = walls[0]
-    span = float(np.max(np.abs(floor.phi_upper - floor.phi_lower)))
-    step = 2.0 * math.acos(max(-1.0, 1.0 - tolerance / d.root))
-    across = max(1, math.ceil(span / step))
+    across = _across(d, floor, tolerance)
     # the cross-section, per station: (phi, r, z) columns around the ring
     phi = [w.phi_lower for w in walls] + [w.phi_upper for w in reversed(walls)]
     rad = [np.full(theta.size, r) for r in radii] + [np.full(theta.size, r) for r in radii[::-1]]
@@ -237,7 +271,29 @@ def groove_lift(d: Drum, vertices: Array, theta: Array, centre: Array) -> tuple[
     alpha = np.mod(d.axis_angle(theta) + math.pi, 2 * math.pi) - math.pi
     first = np.searchsorted(phi, alpha - reach)
     last = np.searchsorted(phi, alpha + reach)
-    # every angle's window of vertices at once: (angles, widest window), padded and masked
+    # a block of angles at a time, each block's windows at once: (angles, widest window),
+    # padded and masked; as many angles to a block as keep it within LIFT_BLOCK_ELEMENTS
+    widest = max(1, int(np.max(last - first, initial=0)))
+    block = max(1, LIFT_BLOCK_ELEMENTS // widest)
+    low, high = np.empty(theta.size), np.empty(theta.size)
+    for start in range(0, theta.size, block):
+        rows = slice(start, start + block)
+        low[rows], high[rows] = _lift_window(d, phi, r, z, alpha[rows], first[rows],
+                                             last[rows], centre[rows])
+    return low, high
+
+
+#: Most (angle, vertex) pairs :func:`groove_lift` holds at once: 2 M, some 16 MB per array of
+#: float64 (a groove of a hundred thousand stations has millions of vertices within the
+#: roller's reach of all its angles, gigabytes at once).
+LIFT_BLOCK_ELEMENTS = 1 << 21
+
+
+def _lift_window(d: Drum, phi: Array, r: Array, z: Array, alpha: Array, first: Index,
+                 last: Index, centre: Array) -> tuple[Array, Array]:
+    """:func:`groove_lift` at the axis angles *alpha* (rad), whose windows of the sorted
+    vertices (polar angle *phi*, rad; radius *r* and height *z*, mm) run from *first* to
+    *last*, the design's heights *centre* (mm) there."""
     index = first[:, None] + np.arange(max(1, int(np.max(last - first))))[None, :]
     present = index < last[:, None]
     index = np.minimum(index, phi.size - 1)

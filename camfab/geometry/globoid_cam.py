@@ -18,8 +18,14 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from camfab.arrays import Array
-from camfab.curves.sampling import SURFACE_ACROSS, ahead_and_middle, probe_angles, spread
+from camfab.arrays import Array, Index
+from camfab.curves.sampling import (
+    SURFACE_ACROSS,
+    ahead_and_middle,
+    probe_angles,
+    spread,
+    spread_count,
+)
 from camfab.geometry.globoid import Globoid, groove_tube, to_cam
 from camfab.motion.program import cycle_angles
 
@@ -240,6 +246,16 @@ def stations(blank: GloboidCam, program: MotionProgram, rows: Array, tolerance: 
     along both flanks, on every row of *rows* (mm from the pivot), stay within *tolerance*
     (mm) of the exact flanks: placed by the chord error c²/(8ρ) of each row's path on the cam,
     then every chord measured at its middle and the stations halved where one strays."""
+    return _halved(blank, program, rows, tolerance,
+                   spread(*_station_density(blank, program, rows, tolerance),
+                          len(program.segments)))
+
+
+def _station_density(blank: GloboidCam, program: MotionProgram, rows: Array,
+                     tolerance: float) -> tuple[Index, Array, Array]:
+    """The stations a radian needs (1/rad) on the program's segment grid, by the chord error
+    c²/(8ρ) of each row's path (see :func:`stations`): its segment index, cam angle (rad) and
+    density."""
     g = blank.follower
     even = cycle_angles(ANALYSIS_STEP)  # evenly spaced, for the differences
     m = program.evaluate(even)
@@ -259,8 +275,19 @@ def stations(blank: GloboidCam, program: MotionProgram, rows: Array, tolerance: 
     segment, theta, _ = program.segment_grid(ANALYSIS_STEP)
     density = np.interp(theta, even, density, period=2 * math.pi)
     density = np.maximum(density, 1.0 / MAX_STATION_STEP)
-    placed = spread(segment, theta, density, len(program.segments))
+    return segment, theta, density
+
+
+def _halved(blank: GloboidCam, program: MotionProgram, rows: Array, tolerance: float,
+            placed: Array, most: int | None = None) -> Array:
+    """The stations *placed* (rad) with every chord that strays further than *tolerance* (mm)
+    from the flanks on *rows* halved, round after round (at most eight); with *most*, no
+    further once they are more than that (count)."""
+    g = blank.follower
+    ell = np.asarray(rows)[:, None]
     for _ in range(8):  # halve the chords that stray
+        if most is not None and placed.size > most:
+            break
         ahead, middle = ahead_and_middle(placed)
         motion = [program.evaluate(t)[:, None, :] for t in (placed, ahead, middle)]
         worst = np.zeros(placed.size)
@@ -327,9 +354,51 @@ def tube(blank: GloboidCam, program: MotionProgram, tolerance: float,
     between them is not flat (the flank twists: its points move at speeds that differ along the
     arm), and its two triangles meet along a diagonal whose middle strays from the flank by
     about |∂²P/∂θ∂ℓ|·Δθ·Δℓ/4, so the rows are doubled until no diagonal strays further."""
+    plan = tube_plan(blank, program, tolerance, twist)
+    assert plan.stations is not None, "a plan without a most is complete"
+    vertices, faces = groove_tube(blank.follower, plan.stations, program.evaluate(plan.stations),
+                                  plan.rows, plan.across)
+    return Tube(vertices, faces, plan.stations, plan.rows)
+
+
+@dataclass(frozen=True)
+class TubePlan:
+    """Where :func:`tube` puts the tube's points: its stations (rad; None when the plan was
+    given up, see :func:`tube_plan`), its rows (mm from the pivot) and the steps across the
+    floor and the top (count); and the facets (count) they make, two per station and point
+    round the section."""
+
+    stations: Array | None
+    rows: Array
+    across: int
+    facets: int
+
+
+def _facets(stations: int, rows: int, across: int) -> int:
+    """The tube's facets (count) at *stations* stations, *rows* rows and *across* steps."""
+    return 2 * stations * (2 * rows + 2 * (across - 1))
+
+
+def tube_plan(blank: GloboidCam, program: MotionProgram, tolerance: float, twist: bool = True,
+              most: int | None = None) -> TubePlan:
+    """The stations, rows and steps across of :func:`tube` at *tolerance* (mm) (see there).
+    With *most*, the plan is given up (its stations None) once it would make more facets than
+    that: its facets then count what it had reached, more than *most*, so that planning a
+    tube costs no more than a tube of *most* facets would."""
     g = blank.follower
     rows = tube_rows(blank, program, tolerance)
-    theta = stations(blank, program, rows, tolerance)
+    across = max(2, math.ceil(2 * g.radius / max(math.sqrt(8.0 * tolerance * g.radius), 1e-6)))
+    across = min(across, 64)
+    segment, grid, density = _station_density(blank, program, rows, tolerance)
+    if most is not None:
+        count = spread_count(segment, grid, density, len(program.segments))
+        if _facets(count, rows.size, across) > most:
+            return TubePlan(None, rows, across, _facets(count, rows.size, across))
+    placed = spread(segment, grid, density, len(program.segments))
+    most_stations = most // _facets(1, rows.size, across) if most is not None else None
+    theta = _halved(blank, program, rows, tolerance, placed, most_stations)
+    if most is not None and _facets(theta.size, rows.size, across) > most:
+        return TubePlan(None, rows, across, _facets(theta.size, rows.size, across))
     m = program.evaluate(theta)
     ahead, middle = ahead_and_middle(theta)
     m_ahead, m_mid = program.evaluate(ahead), program.evaluate(middle)
@@ -345,10 +414,9 @@ def tube(blank: GloboidCam, program: MotionProgram, tolerance: float,
         if worst <= tolerance:
             break
         rows = np.linspace(rows[0], rows[-1], 2 * rows.size - 1)
-    across = max(2, math.ceil(2 * g.radius / max(math.sqrt(8.0 * tolerance * g.radius), 1e-6)))
-    across = min(across, 64)
-    vertices, faces = groove_tube(g, theta, m, rows, across)
-    return Tube(vertices, faces, theta, rows)
+        if most is not None and _facets(theta.size, rows.size, across) > most:
+            return TubePlan(None, rows, across, _facets(theta.size, rows.size, across))
+    return TubePlan(theta, rows, across, _facets(theta.size, rows.size, across))
 
 
 @dataclass(frozen=True)

@@ -53,7 +53,7 @@ import shapely
 from camfab.arrays import Array, Index, Mask
 from camfab.curves.plane import CurvePoints, perp, signed_angle
 from camfab.curves.profile import MERGE_DISTANCE, Profile
-from camfab.curves.sampling import SAMPLING_SHARE, arc_points, sample_curve
+from camfab.curves.sampling import SAMPLING_SHARE, arc_points, sample_curves
 from camfab.geometry.arcfit import fit_arcs
 from camfab.geometry.disc_geometry import ANALYSIS_STEP, MIN_TOLERANCE_FACTOR, LiftCheck, Sampled
 from camfab.geometry.simulate import OffsetPieces
@@ -340,44 +340,57 @@ def _pieces(program: MotionProgram, stroke: float, x_lo: float, x_hi: float) -> 
 Evaluator = Callable[[Array, Array], CurvePoints]
 
 
-def _sample(cam: LinearCam, pieces: list[_Piece], evaluator: Evaluator,
-            tolerances: Array, join_arcs: bool) -> tuple[Sampled, Mask]:
-    """The curve over *pieces* sampled within each segment's tolerance (mm), as one chain with
-    its unwrapped cycle angles, and which points are corners (a velocity step's kink in a
-    pitch or knife curve). With *join_arcs* (a roller's working curve) a velocity step is
-    bridged by the arc the roller rolls over the pitch curve's corner."""
+def _sample(cam: LinearCam, program: MotionProgram, pieces: list[_Piece],
+            evaluator: Evaluator, tolerances: Array, join_arcs: bool) -> tuple[Sampled, Mask]:
+    """The curve over *pieces* (of *program*'s segments) sampled within each segment's
+    tolerance (mm), as one chain with its unwrapped cycle angles, and which points are corners
+    (a velocity step's kink in a pitch or knife curve). With *join_arcs* (a roller's working
+    curve) a velocity step is bridged by the arc the roller rolls over the pitch curve's corner.
+
+    Every piece is sampled in the same rounds (:func:`camfab.curves.sampling.sample_curves`:
+    the points each would have alone), its chords densified at once; only the joins go piece
+    by piece."""
+    count = len(pieces)
+    segment = np.array([piece.seg.index for piece in pieces], dtype=np.intp)
+    offset = np.array([piece.cycle * TWO_PI + piece.seg.start for piece in pieces])
+    lo = np.array([piece.lo for piece in pieces])
+    hi = np.array([piece.hi for piece in pieces])
+
+    def curve_at(i: Index, t: Array) -> CurvePoints:
+        local = lo[i] + t
+        return evaluator((offset[i] + local) / cam.k, program.evaluate_local(segment[i], local))
+
+    owner, t, xy = _densified(curve_at, *sample_curves(curve_at, hi - lo, tolerances[segment]))
+    bounds = np.searchsorted(owner, np.arange(count + 1))
+    # each piece's tangent where it starts and where it ends; a roller's corner centre
+    every = np.arange(count)
+    first_tangent = curve_at(every, np.zeros(count)).tangent
+    last_tangent = evaluator((offset + hi) / cam.k, program.evaluate_local(segment, hi)).tangent
+    centres = (cam.pitch((offset + lo) / cam.k, program.evaluate_local(segment, lo)).xy
+               if join_arcs else None)
     thetas: list[Array] = []
     points: list[Array] = []
     corners: list[Mask] = []
-    for i, piece in enumerate(pieces):
-        seg = piece.seg
-        tol = float(tolerances[seg.index])
-        base = piece.cycle * TWO_PI + seg.start + piece.lo
-
-        def curve_at(t: Array, seg: ProgramSegment = seg, piece: _Piece = piece) -> CurvePoints:
-            local = piece.lo + t
-            x = (piece.cycle * TWO_PI + seg.start + local) / cam.k
-            return evaluator(x, seg.evaluate_local(local))
-
-        t, xy = _densified(curve_at, *sample_curve(curve_at, piece.hi - piece.lo, tol))
-        corner = np.zeros(len(t), dtype=bool)
+    for i in range(count):
+        mine = slice(int(bounds[i]), int(bounds[i + 1]))
+        base = offset[i] + lo[i]
+        piece_t, piece_xy = t[mine], xy[mine]
+        corner = np.zeros(len(piece_t), dtype=bool)
         if i > 0:  # the previous piece ends where this one starts
-            start, end = points[-1][-1], xy[0]
+            start, end = points[-1][-1], piece_xy[0]
             if float(np.hypot(*(end - start))) <= MERGE_DISTANCE:
-                turn = signed_angle(_end_tangent(cam, pieces[i - 1], evaluator)[None],
-                                    curve_at(np.zeros(1)).tangent)
+                turn = signed_angle(last_tangent[i - 1][None], first_tangent[i][None])
                 corners[-1][-1] |= bool(abs(float(turn[0])) > 1e-9)
-                t, xy, corner = t[1:], xy[1:], corner[1:]
-            elif join_arcs:
-                centre = cam.pitch(np.array([base / cam.k]),
-                                   seg.evaluate_local(np.array([piece.lo]))).xy[0]
+                piece_t, piece_xy, corner = piece_t[1:], piece_xy[1:], corner[1:]
+            elif centres is not None:
+                centre = centres[i]
                 sweep = float(signed_angle((start - centre)[None], (end - centre)[None])[0])
-                arc = arc_points(centre, start, sweep, tol)[1:-1]
+                arc = arc_points(centre, start, sweep, float(tolerances[segment[i]]))[1:-1]
                 thetas.append(np.full(len(arc), base))
                 points.append(arc)
                 corners.append(np.zeros(len(arc), dtype=bool))
-        thetas.append(base + t)
-        points.append(xy)
+        thetas.append(base + piece_t)
+        points.append(piece_xy)
         corners.append(corner)
     return Sampled(np.concatenate(thetas), np.concatenate(points)), np.concatenate(corners)
 
@@ -388,21 +401,25 @@ def _sample(cam: LinearCam, pieces: list[_Piece], evaluator: Evaluator,
 DENSIFY = 4
 
 
-def _densified(curve_at: Callable[[Array], CurvePoints], t: Array,
-               xy: Array) -> tuple[Array, Array]:
-    """The samples (*t*, *xy*) with :data:`DENSIFY` − 1 exact points added inside each chord."""
+def _densified(curve_at: Callable[[Index, Array], CurvePoints], owner: Index, t: Array,
+               xy: Array) -> tuple[Index, Array, Array]:
+    """The samples (*owner* curve, parameter *t*, point *xy*) of many curves with
+    :data:`DENSIFY` − 1 exact points added inside each chord of a curve."""
+    chord = np.flatnonzero(owner[1:] == owner[:-1])  # a chord from sample k to k + 1
     frac = np.arange(1, DENSIFY) / DENSIFY
-    inner = (t[:-1, None] + np.diff(t)[:, None] * frac).ravel()
-    t_all = np.concatenate((t[:-1, None], inner.reshape(-1, DENSIFY - 1)), axis=1).ravel()
-    xy_inner = curve_at(inner).xy.reshape(-1, DENSIFY - 1, 2)
-    xy_all = np.concatenate((xy[:-1, None], xy_inner), axis=1).reshape(-1, 2)
-    return np.append(t_all, t[-1]), np.vstack((xy_all, xy[-1:]))
-
-
-def _end_tangent(cam: LinearCam, piece: _Piece, evaluator: Evaluator) -> Array:
-    seg = piece.seg
-    x = (piece.cycle * TWO_PI + seg.start + piece.hi) / cam.k
-    return evaluator(np.array([x]), seg.evaluate_local(np.array([piece.hi]))).tangent[0]
+    inner = (t[chord, None] + (t[chord + 1] - t[chord])[:, None] * frac).ravel()
+    xy_inner = curve_at(np.repeat(owner[chord], DENSIFY - 1), inner).xy
+    # each sample, then the points inside the chord it starts
+    size = np.ones(t.size, dtype=np.intp)
+    size[chord] = DENSIFY
+    at = np.cumsum(size) - size
+    where = (at[chord, None] + np.arange(1, DENSIFY)).ravel()
+    out_owner = np.repeat(owner, size)
+    out_t = np.empty(out_owner.size)
+    out_xy = np.empty((out_owner.size, 2))
+    out_t[at], out_xy[at] = t, xy
+    out_t[where], out_xy[where] = inner, xy_inner
+    return out_owner, out_t, out_xy
 
 
 def dense_curves(cam: LinearCam, program: MotionProgram,
@@ -429,10 +446,13 @@ def _outside_sweep(pitch_xy: Array, radius: float, slack: float) -> KeepTest:
     """Points under the pitch curve and at least *radius* − *slack* from it: where the follower's
     circle, its centre running along the pitch curve, never reaches."""
     line = shapely.LineString(pitch_xy)
+    # an indexed test: plain distances take faces × pitch points time (minutes for a cam of a
+    # thousand segments whose every bump is undercut)
+    shapely.prepare(line)
 
     def keep(points: Array) -> Mask:
         under = points[:, 1] < np.interp(points[:, 0], pitch_xy[:, 0], pitch_xy[:, 1])
-        far = shapely.distance(line, shapely.points(points)) >= radius - slack
+        far = ~shapely.dwithin(line, shapely.points(points), radius - slack)
         return np.asarray(under & far, dtype=bool)
 
     return keep
@@ -493,11 +513,19 @@ def _plate_ring(cam: LinearCam, working: Sampled, corners: Mask, pitch: Sampled,
     keep = np.hypot(*(np.roll(xy, -1, axis=0) - xy).T) > MERGE_DISTANCE
     xy = xy[keep]
     # a top vertex that is not a sampled point of the envelope is where a loop was cut
-    known = {(float(a), float(b)) for a, b in w}
-    kinks = {(float(a), float(b)) for a, b in w[corners]}
-    marked = np.array([(float(a), float(b)) not in known or (float(a), float(b)) in kinks
-                       for a, b in xy])
+    marked = ~_among(xy, w) | _among(xy, w[corners])
     return xy, marked
+
+
+def _among(points: Array, table: Array) -> Mask:
+    """Whether each of (N, 2) *points* is one of the (M, 2) points *table*, coordinate by
+    coordinate equal (as floats compare: −0 is 0, NaN is nothing)."""
+    def joined(xy: Array) -> Array:
+        out = np.empty(len(xy), dtype=np.complex128)
+        out.real, out.imag = xy[:, 0], xy[:, 1]
+        return out
+
+    return np.isin(joined(points), joined(table))
 
 
 def plate_outline(ring: Array, marked: Mask, tolerance: float) -> Profile:
@@ -517,13 +545,13 @@ def linear_geometry(design: Design) -> LinearGeometry:
     tolerances = segment_tolerances(dense, design.manufacturing.tolerance,
                                     len(program.segments))
     tolerance = float(tolerances.min())
-    pitch, pitch_corners = _sample(cam, _pieces(program, cam.stroke, 0.0, cam.stroke), cam.pitch,
-                                   tolerances, join_arcs=False)
+    pitch, pitch_corners = _sample(cam, program, _pieces(program, cam.stroke, 0.0, cam.stroke),
+                                   cam.pitch, tolerances, join_arcs=False)
     reach = cam.overhang + cam.radius + END_MARGIN_MM
     extended = _pieces(program, cam.stroke, -reach, cam.stroke + reach)
-    working, corners = _sample(cam, extended, cam.working, tolerances,
+    working, corners = _sample(cam, program, extended, cam.working, tolerances,
                                join_arcs=cam.radius > 0.0)
-    wide_pitch, _ = _sample(cam, extended, cam.pitch, tolerances, join_arcs=False)
+    wide_pitch, _ = _sample(cam, program, extended, cam.pitch, tolerances, join_arcs=False)
     folded = (dense.pitch.radius > 0.0) & (dense.pitch.radius < cam.radius)
     crossing = not is_simple(_raw_ring(working))
     trim = crossing or bool(folded.any())

@@ -10,12 +10,13 @@ following the design would leave, and the follower simulation on it measures the
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 
 import numpy as np
 import shapely
 
-from camfab.arrays import Array, Mask
+from camfab.arrays import Array, Index, Mask
 
 #: A predicate over (K, 2) points: True where the follower never enters.
 KeepTest = Callable[[Array], Mask]
@@ -73,20 +74,80 @@ def outside_circle_sweep(pitch_xy: Array, radius: float, slack: float) -> KeepTe
 
 
 def below_face_lines(normals: Array, heights: Array, slack: float) -> KeepTest:
-    """Points on the cam side of every face line ``x·n ≤ h`` (flat faces), *normals* (K, 2) and
-    *heights* (K,) in the cam frame."""
+    """Points on the cam side of every face line ``x·n ≤ h`` (flat faces), *normals* (K, 2,
+    unit) and *heights* (K,) in the cam frame.
 
-    limit = heights[None, :] + slack
-    # a block of points at a time: a cam whose every bump folds has hundreds of thousands of
-    # faces to test against thousands of face lines, gigabytes at once
+    A point at distance r from the centre is above a line only if the line's normal lies within
+    arccos(h_min/r) of the point's direction (h_min the least height: x·n = r·cos of the angle
+    between them), and is above some line if r·cos(δ/2) exceeds every height (δ the widest gap
+    between the normals' directions: some normal lies within δ/2 of the point's). So a point
+    that far out is above one, one nearer the centre than every line below them all, and each
+    block of the others, taken in the order of their directions, is tested against the lines
+    whose normals lie within that of the block's directions: a cam whose every bump folds has
+    hundreds of thousands of faces to test and thousands of face lines, a few near each face."""
+    limit = heights + slack
+    angle = np.arctan2(normals[:, 1], normals[:, 0])
+    order = np.argsort(angle, kind="stable")
+    angle, normals, limit = angle[order], normals[order], limit[order]
+    least = float(limit.min(initial=np.inf))
+    outer = _outer_radius(angle, float(limit.max(initial=-np.inf)))
+    # a block of points at a time: their (point, face line) pairs stay within the most held
     block = max(1, FACE_TEST_ELEMENTS // max(1, normals.shape[0]))
 
     def keep(points: Array) -> Mask:
-        return np.concatenate([np.all(points[i:i + block] @ normals.T <= limit, axis=1)
-                               for i in range(0, points.shape[0], block)]
-                              or [np.zeros(0, dtype=bool)])
+        radius = np.hypot(points[:, 0], points[:, 1])
+        # nearer the centre than every line (below them all), or beyond some line, with room
+        # for the rounding of x·n
+        out = radius < least * (1.0 - 1e-12)
+        between = np.flatnonzero(~out & ~(radius > outer * (1.0 + 1e-12)))
+        if not between.size:
+            return out
+        with np.errstate(divide="ignore", invalid="ignore"):
+            reach = np.arccos(np.clip(least / radius[between], -1.0, 1.0)) + FACE_ANGLE_SLACK
+        direction = np.arctan2(points[between, 1], points[between, 0])
+        turn = np.argsort(direction, kind="stable")
+        between, direction, reach = between[turn], direction[turn], reach[turn]
+        for i in range(0, between.size, block):
+            mine = slice(i, i + block)
+            near = _lines_within(angle, float(np.min(direction[mine] - reach[mine])),
+                                 float(np.max(direction[mine] + reach[mine])))
+            out[between[mine]] = np.all(points[between[mine]] @ normals[near].T <= limit[near],
+                                        axis=1)
+        return out
 
     return keep
+
+
+def _outer_radius(angle: Array, highest: float) -> float:
+    """The distance (mm) from the centre beyond which a point is above one of the lines whose
+    normals point at the sorted *angle* (rad) and whose heights are at most *highest* (mm):
+    *highest* over the cosine of half the widest gap between the angles (round the turn), or
+    inf when the gaps leave a half-plane uncovered."""
+    if angle.size == 0 or not np.isfinite(highest) or highest <= 0.0:
+        return np.inf
+    gap = float(np.max(np.diff(angle, append=angle[0] + 2 * np.pi)))
+    half = gap / 2 + FACE_ANGLE_SLACK
+    return highest / math.cos(half) if half < math.pi / 2 else np.inf
+
+
+#: Extra angle (rad) about each point's direction within which the face lines it is tested
+#: against lie: far above the rounding of the angles (1e-15), so that no line a point could be
+#: above is left out.
+FACE_ANGLE_SLACK = 1e-6
+
+
+def _lines_within(angle: Array, low: float, high: float) -> Index:
+    """Indices of the sorted angles *angle* (rad, −π..π) within [*low*, *high*] (rad, any
+    values), across ±π."""
+    if not np.isfinite(low) or not np.isfinite(high) or high - low >= 2 * np.pi:
+        return np.arange(angle.size)
+    low = (low + np.pi) % (2 * np.pi) - np.pi
+    high = (high + np.pi) % (2 * np.pi) - np.pi
+    first = int(np.searchsorted(angle, low, side="left"))
+    last = int(np.searchsorted(angle, high, side="right"))
+    if low <= high:
+        return np.arange(first, last)
+    return np.concatenate((np.arange(first, angle.size), np.arange(0, last)))
 
 
 def cut_away(raw_xy: Array, profile_xy: Array, tolerance: float) -> Mask:

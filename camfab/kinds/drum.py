@@ -14,7 +14,6 @@ import numpy as np
 
 from camfab.analysis.record import TABLE_COLUMNS, Analysis, CamResult, terse
 from camfab.analysis.verification import Verification
-from camfab.kinds.disc import no_checks
 
 if TYPE_CHECKING:
     from camfab.analysis.contact import Contact
@@ -192,8 +191,21 @@ class Drum:
 
     drives_both_ways = False
     mounted = "drum"
-    check = staticmethod(no_checks)
     inspect_refusal = "is a drum (cylindrical) cam; inspection checks the outline of a disc cam"
+
+    @staticmethod
+    def check(design: Design) -> None:
+        """The groove's tube no larger than camfab builds
+        (:func:`camfab.geometry.tube_budget.check_tube`)."""
+        from camfab.curves.sampling import SAMPLING_SHARE
+        from camfab.geometry.drum import drum
+        from camfab.geometry.drum_mesh import tube_facets
+        from camfab.geometry.tube_budget import check_tube
+
+        d, program = drum(design), design.program
+        check_tube(lambda tolerance, most: tube_facets(d, program, SAMPLING_SHARE * tolerance,
+                                                       most),
+                   design.manufacturing.tolerance, "a drum's groove", len(program.segments))
 
     @staticmethod
     def analyse(design: Design, program: MotionProgram, units: MotionUnits,

@@ -10,6 +10,7 @@ and the section of the DXF is measured against the exact one.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -264,10 +265,13 @@ class Globoidal:
     def check(design: Design) -> None:
         """The groove in the blank: the floor past the roller's end (and the reach of its end
         face), the roller's outer end outside the blank, the floor short of the cam axis and
-        the bore, the blank's ends past the groove."""
+        the bore, the blank's ends past the groove; and its tube no larger than camfab
+        builds."""
         from camfab.geometry.globoid_cam import globoid_cam
 
-        check_blank(design, globoid_cam(design))
+        blank = globoid_cam(design)
+        check_blank(design, blank)
+        check_tube_size(design, blank)
 
     @staticmethod
     def analyse(design: Design, program: MotionProgram, units: MotionUnits,
@@ -338,6 +342,36 @@ def check_blank(design: Design, blank: GloboidCam) -> None:
     if cam.width is not None and reach_z + MIN_WALL_MM > cam.width / 2.0:
         fail(("cam", "width"), f"the groove reaches z = ±{mm(reach_z)}: the blank must be at "
              f"least {mm(2 * (reach_z + MIN_WALL_MM))} wide to leave {MIN_WALL_MM:g} mm walls")
+
+
+def check_tube_size(design: Design, blank: GloboidCam) -> None:
+    """The groove's tube no larger than camfab builds
+    (:func:`camfab.geometry.tube_budget.check_tube`): the tube :func:`globoid_part` would make,
+    its facets' diagonals held to the tolerance unless a flank folds (which only a tube too
+    large that way asks)."""
+    from camfab.curves.sampling import SAMPLING_SHARE
+    from camfab.geometry.globoid_cam import tube_plan
+    from camfab.geometry.tube_budget import MAX_TUBE_FACETS, check_tube
+
+    program, tolerance = design.program, design.manufacturing.tolerance
+
+    def facets(twist: bool) -> Callable[[float, int], int]:
+        return lambda tol, most: tube_plan(blank, program, SAMPLING_SHARE * tol, twist,
+                                           most).facets
+
+    facets_at = facets(True)
+    if facets_at(tolerance, MAX_TUBE_FACETS) > MAX_TUBE_FACETS and _folds(blank, program):
+        facets_at = facets(False)
+    check_tube(facets_at, tolerance, "a globoid's groove", len(program.segments))
+
+
+def _folds(blank: GloboidCam, program: MotionProgram) -> bool:
+    """Whether a flank of the groove folds (the undercut check fails: see
+    :func:`camfab.analysis.globoid_checks.undercut_finding`)."""
+    from camfab.analysis.globoid_checks import globoid_dense
+
+    dense = globoid_dense(blank, program)
+    return bool(np.any(dense.undercut_radius <= blank.follower.radius))
 
 
 def _undercut(analysis: Analysis) -> bool:
