@@ -232,7 +232,7 @@ def test_every_sweep_ends_in_one_line_or_its_files(tmp_path_factory: pytest.Temp
     after = _files(folder)
     out = case.args[case.args.index("-o") + 1]
     if run.code == 2:
-        assert len(run.stderr.strip().splitlines()) == 1, run.describe()
+        assert len(run.stderr.strip().split("\n")) == 1, run.describe()
         assert after == before, sorted(after - before)
     else:
         inside = os.path.normpath(out)

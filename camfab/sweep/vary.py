@@ -42,7 +42,10 @@ class SweepError(CamfabError, ValueError):
     ``camfab sweep:``."""
 
     def __init__(self, message: str) -> None:
-        super().__init__(f"camfab sweep: {message}")
+        # what the user typed is echoed: a character that is not printable (a line or record
+        # separator, a control) is shown escaped, so the message stays one line on any terminal
+        shown = "".join(c if c.isprintable() else repr(c)[1:-1] for c in message)
+        super().__init__(f"camfab sweep: {shown}")
 
 
 @dataclass(frozen=True)
