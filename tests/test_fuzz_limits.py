@@ -33,9 +33,10 @@ from .limited_child import ChildRun, run_forked
 pytestmark = pytest.mark.skipif(not sys.platform.startswith("linux"),
                                 reason="forks children and reads /proc")
 
-#: Most CPU seconds a case may use. The heaviest designs inside camfab's limits (a drum at the
-#: finest tolerance, a table of 20,000 points) build in 5-7 s of CPU on the machines camfab is
-#: tested on; a case that hits this limit is a runaway.
+#: Most CPU seconds a case may use. The heaviest designs inside camfab's limits (a groove mesh
+#: near its 500,000 facets, a plate cam of a thousand segments, a table of 20,000 points) build
+#: in 5-13 s of CPU on the machines camfab is tested on; a case that hits this limit is a
+#: runaway.
 CPU_LIMIT = 40.0
 #: Most growth of resident memory a case may show (MB). Ordinary builds peak under 300 MB; the
 #: worst inside camfab's limits, a flat face folding on each of a thousand tiny bumps (some
