@@ -212,6 +212,8 @@ def test_an_http_server_is_not_taken_for_a_scheduler(tmp_path: Path) -> None:
     line = refused(run, tmp_path)
     assert ("is not a Dask scheduler" in line
             or f"did not answer Dask's handshake in {ANSWER_SECONDS} s" in line), line
+    if "did not answer" in line:  # a peer that takes the connection and says nothing: the
+        assert run.wall_seconds >= ANSWER_SECONDS  # deadline bounds the handshake as well
 
 
 def test_a_peer_that_answers_in_http_is_not_a_scheduler(tmp_path: Path, peer: Start) -> None:
@@ -228,15 +230,6 @@ def test_a_peer_that_sends_garbage_is_not_a_scheduler(tmp_path: Path, peer: Star
         address = peer(lambda conn, garbage=garbage: conn.sendall(garbage))
         refused(sweep(tmp_path, address), tmp_path, "the peer there is not a Dask scheduler",
                 "not Dask's protocol")
-
-
-def test_a_silent_peer_ends_the_sweep_at_the_deadline(tmp_path: Path, peer: Start) -> None:
-    """A peer that takes the connection and says nothing: Dask's connect bounds the
-    connection, not its handshake."""
-    run = sweep(tmp_path, peer(lambda conn: None))
-    refused(run, tmp_path, "cannot reach a Dask scheduler there",
-            f"did not answer Dask's handshake in {ANSWER_SECONDS} s")
-    assert run.wall_seconds >= ANSWER_SECONDS
 
 
 def test_a_peer_that_closes_the_connection_is_one_line(tmp_path: Path, peer: Start) -> None:

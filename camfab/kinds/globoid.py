@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import cache
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -351,16 +352,20 @@ def check_tube_size(design: Design, blank: GloboidCam) -> None:
     large that way asks)."""
     from camfab.curves.sampling import SAMPLING_SHARE
     from camfab.geometry.globoid_cam import tube_plan
-    from camfab.geometry.tube_budget import MAX_TUBE_FACETS, check_tube
+    from camfab.geometry.tube_budget import COUNTED, MAX_TUBE_FACETS, check_tube
 
     program, tolerance = design.program, design.manufacturing.tolerance
 
     def facets(twist: bool) -> Callable[[float, int], int]:
-        return lambda tol, most: tube_plan(blank, program, SAMPLING_SHARE * tol, twist,
-                                           most).facets
+        @cache  # (the count at the design's tolerance is asked twice: here and to refuse)
+        def count(tol: float, most: int) -> int:
+            return tube_plan(blank, program, SAMPLING_SHARE * tol, twist, most).facets
+
+        return count
 
     facets_at = facets(True)
-    if facets_at(tolerance, MAX_TUBE_FACETS) > MAX_TUBE_FACETS and _folds(blank, program):
+    if facets_at(tolerance, COUNTED * MAX_TUBE_FACETS) > MAX_TUBE_FACETS and _folds(blank,
+                                                                                  program):
         facets_at = facets(False)
     check_tube(facets_at, tolerance, "a globoid's groove", len(program.segments))
 
