@@ -13,7 +13,7 @@ from typing import Any, NoReturn
 from pydantic import ValidationError
 
 from camfab.design.cam_types import CAM_TYPES, CamTypeSpec
-from camfab.design.model import MATERIAL_TAGS, Design, Sized
+from camfab.design.model import MATERIAL_TAGS, NAME_RULE, Design, Sized
 from camfab.design.rules import RuleViolation
 from camfab.design.source import Path_, SourceDocument, dotted, parse_yaml, read_design_file
 from camfab.design.units import MM_PER_UNIT
@@ -517,8 +517,7 @@ def _describe(err: Any) -> tuple[str, Any, str | None]:
     if kind == "less_than_equal":
         return f"must be ≤ {ctx.get('le')}", None, None
     if kind == "string_pattern_mismatch":
-        return ("must start with a letter or digit and use only a-z, 0-9, '.', '_' and '-'",
-                None, None)
+        return NAME_RULE, None, None  # (the name's is the one pattern of the design file)
     if kind in _PYDANTIC_PROBLEMS:
         return _PYDANTIC_PROBLEMS[kind], None, None
     msg = str(err.get("msg", "is invalid"))

@@ -464,6 +464,8 @@ class Manufacturing(Frozen):
 #: letter or digit, so that neither ``".."`` nor ``"."`` nor a hidden ``".x"`` can place the
 #: files elsewhere, and holds no separator.
 NAME_PATTERN = r"^[a-z0-9][a-z0-9._-]*$"
+#: :data:`NAME_PATTERN` in words, as a refusal gives it.
+NAME_RULE = "must start with a letter or digit and use only a-z, 0-9, '.', '_' and '-'"
 #: The longest ``name`` (characters).
 NAME_LENGTH = 100
 

@@ -121,7 +121,7 @@ def _name(doc: SourceDocument, design: Path) -> str:
     the output folder and nowhere else), else the design file's stem."""
     import re
 
-    from camfab.design.model import NAME_LENGTH, NAME_PATTERN
+    from camfab.design.model import NAME_LENGTH, NAME_PATTERN, NAME_RULE
     from camfab.errors import DesignError
 
     name = doc.data.get("name")
@@ -131,8 +131,7 @@ def _name(doc: SourceDocument, design: Path) -> str:
         raise DesignError(f"must be at most {NAME_LENGTH} characters", field="name",
                           location=doc.locate(("name",)))
     if not re.fullmatch(NAME_PATTERN, name):
-        raise DesignError("must start with a letter or digit and use only a-z, 0-9, '.', '_' "
-                          "and '-'", field="name", location=doc.locate(("name",)), got=name)
+        raise DesignError(NAME_RULE, field="name", location=doc.locate(("name",)), got=name)
     return name
 
 
