@@ -286,6 +286,30 @@ def _sweep_one(options: SweepOptions) -> Outcome:
 
 
 @main.command()
+@click.argument("design")
+@click.option("--port", type=click.IntRange(0, 65535), default=8765, show_default=True,
+              help="The port to listen on (0: any free one).")
+@click.option("--host", metavar="ADDR",
+              help="Listen on this address instead of 127.0.0.1 (this machine only); another "
+                   "machine can then reach the studio with its URL.")
+@click.option("--open/--no-open", "open_page", default=None,
+              help="Open the page in the desktop's browser (default: when there is a desktop).")
+def serve(design: str, port: int, host: str | None, open_page: bool | None) -> None:
+    """Open DESIGN in the studio: a page in the browser that shows its report live — the cam
+    animated in 2-D and 3-D, its diagrams and checks — with every number of the design to edit;
+    Save writes the edits into the file (comments kept), and a save in any editor shows at once.
+    Needs camfab[serve]. Prints the page's URL (with its token); Ctrl-C stops it."""
+    from camfab.batch import Outcome
+
+    def work() -> Outcome:
+        from camfab.serve.run import serve as run
+
+        return Outcome(run(design, port, host, open_page))
+
+    sys.exit(_finish([_guarded(design, work)]))
+
+
+@main.command()
 def laws() -> None:
     """List the motion laws with their peak coefficients Cv, Ca, Cj."""
     from camfab.report_text import laws_table

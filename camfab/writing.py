@@ -70,6 +70,38 @@ def write_files(folder: Path, files: Mapping[str, bytes],
     return [final for _, final in temps]
 
 
+def replace_file(path: Path, data: bytes) -> None:
+    """Replace the contents of the existing file *path* with *data* as one step: written to a
+    temporary file beside it, given the file's own permissions, then renamed over it (the
+    stopping signals held), so a reader or a stop sees the old file or the new, never a part.
+    The temporary file is removed on every way out.
+
+    Raises
+    ------
+    OutputError
+        The file cannot be written; it is unchanged then.
+    """
+    import stat
+
+    folder = path.parent
+    temp: Path | None = None
+    try:
+        mode = stat.S_IMODE(os.stat(path).st_mode)
+        temp, stream = open_temp(folder, path.name)
+        with stream:
+            stream.write(data)
+        os.chmod(temp, mode)
+        with signals_held():
+            os.replace(temp, path)
+        temp = None
+    except OSError as exc:
+        raise OutputError(f"{path}: cannot write the design file ({exc.strerror or exc})"
+                          ) from None
+    finally:
+        if temp is not None:
+            temp.unlink(missing_ok=True)
+
+
 def cannot_write(folder: Path, exc: OSError) -> OutputError:
     """The one line for a write that failed: ``FOLDER: cannot write the outputs (reason)``."""
     reason = exc.strerror or str(exc) or type(exc).__name__

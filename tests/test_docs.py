@@ -33,7 +33,7 @@ HOOKS = ROOT / "docs" / "hooks.py"
 #: The README's two commands: the first sets up and runs the main job, the second the tests
 #: (``.ci/run`` runs the second as it stands).
 MAIN_COMMAND = "pip install . && camfab build designs/demo-valve-at-speed.yaml"
-TEST_COMMAND = 'pip install -e ".[test,step,sweep,cluster]" && pytest'
+TEST_COMMAND = 'pip install -e ".[test,step,sweep,cluster,serve]" && pytest'
 
 
 @cache

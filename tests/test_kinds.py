@@ -24,7 +24,7 @@ def test_every_cam_type_of_the_design_file_has_a_kind() -> None:
 def test_every_kind_implements_the_protocol() -> None:
     wanted = {name for name, _ in inspect.getmembers(CamKind, inspect.isfunction)
               if not name.startswith("_")}
-    assert wanted == {"check", "analyse", "part", "verify"}
+    assert wanted == {"check", "analyse", "part", "verify", "scene"}
     for cam_type in REGISTRY:
         kind = kind_of(cam_type)
         assert isinstance(kind.drives_both_ways, bool), cam_type

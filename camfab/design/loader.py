@@ -88,11 +88,14 @@ def design_from_mapping(data: dict[str, Any], file: str = "<design>",
                      sizer)
 
 
-def unsized_design(path: str | Path, keys: frozenset[str]) -> tuple[Design, frozenset[str]]:
-    """The design in file *path* checked without the keys it gives as ``auto`` and without
-    *keys* (those of them its cam type sizes, whatever the file gives), for a sizing: the
-    design and the keys left out (raises DesignError/DesignFileError)."""
-    doc = read_design_file(path)
+def unsized_design(path: str | Path, keys: frozenset[str],
+                   text: str | None = None) -> tuple[Design, frozenset[str]]:
+    """The design in file *path* (or in its *text*, when given: an edit not saved yet) checked
+    without the keys it gives as ``auto`` and without *keys* (those of them its cam type sizes,
+    whatever the file gives), for a sizing: the design and the keys left out (raises
+    DesignError/DesignFileError)."""
+    path = Path(path)
+    doc = read_design_file(path) if text is None else parse_yaml(text, str(path), path.parent)
     shaped = _Shaper(doc)
     data = shaped.run()
     spec = CAM_TYPES.get(_text(_get(data, "cam", "type")) or "")

@@ -75,6 +75,13 @@ def dotted(path: Path_) -> str:
 
 def read_design_file(path: str | Path) -> SourceDocument:
     """Read and parse a design file; errors name the file (and the line when there is one)."""
+    path = Path(path)
+    return parse_yaml(read_design_text(path), str(path), folder=path.parent)
+
+
+def read_design_text(path: str | Path) -> str:
+    """The text of design file *path* (at most :data:`MAX_DESIGN_BYTES`, UTF-8); errors name
+    the file (and the line of text that is not UTF-8)."""
     from camfab.errors import InputFileError
     from camfab.files import read_bounded
 
@@ -93,7 +100,7 @@ def read_design_file(path: str | Path) -> SourceDocument:
             "not a text file (the design must be YAML in UTF-8)",
             location=Location(name, line, ""),
         ) from None
-    return parse_yaml(text, name, folder=path.parent)
+    return text
 
 
 def parse_yaml(text: str, file: str = "<design>", folder: Path = Path(".")) -> SourceDocument:

@@ -22,9 +22,11 @@ if TYPE_CHECKING:
     from camfab.analysis.record import Analysis
     from camfab.analysis.sizing import ProblemOf
     from camfab.analysis.verification import Verification
+    from camfab.arrays import Array
     from camfab.design import Design
     from camfab.export.part import Part
     from camfab.export.serialise import PartFiles
+    from camfab.kinds.scene3d import Scene3D
     from camfab.motion.program import MotionProgram
 
 
@@ -60,6 +62,12 @@ class CamKind(Protocol):
             Analysis, Verification]:
         """The *files* made of *part* read back as their users would, the follower run over
         them: the analysis (with what reading them back changes) and what was found."""
+
+    def scene(self, analysis: Analysis, theta: Array) -> Scene3D:
+        """The part and its follower in three dimensions at the cam angles *theta* (rad, the
+        report's animation frames): where each STL file's part and the follower stand at each,
+        and the follower's solids, from the kind's exact geometry (mm, in the STL files'
+        coordinates: :mod:`camfab.kinds.scene3d`)."""
 
 
 def sizing_of(cam_type: str) -> ProblemOf | None:

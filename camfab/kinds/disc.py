@@ -28,6 +28,7 @@ if TYPE_CHECKING:
     from camfab.geometry.disc import DiscCam
     from camfab.geometry.disc_geometry import DiscGeometry, LiftCheck
     from camfab.geometry.plate import Contours, Plate
+    from camfab.kinds.scene3d import Scene3D
     from camfab.motion.program import MotionProgram
 
 
@@ -294,6 +295,16 @@ def plate_verify(analysis: Analysis, part: Part, files: PartFiles) -> tuple[Anal
     return analysis, check
 
 
+def disc_scene(analysis: Analysis, theta: Array) -> Scene3D:
+    """A plate cam's scene (:func:`camfab.kinds.scene3d.plate_scene`): the plate turning, its
+    follower on the exact trace point over the plate's thickness."""
+    from camfab.kinds.scene3d import first_contact, plate_scene, plate_thickness, roller_span
+
+    thickness = plate_thickness(analysis)
+    contact = first_contact(analysis, theta, roller_span(analysis, 0.0, thickness))
+    return plate_scene(analysis, theta, [contact], analysis.numbers.max_radius_mm, thickness)
+
+
 def no_checks(design: Design) -> None:
     """A kind whose design-file rules need none of its geometry."""
 
@@ -306,6 +317,7 @@ class Disc:
     inspect_refusal = None
     check = staticmethod(no_checks)
     verify = staticmethod(plate_verify)
+    scene = staticmethod(disc_scene)
 
     @staticmethod
     def analyse(design: Design, program: MotionProgram, units: MotionUnits,

@@ -28,10 +28,18 @@ if TYPE_CHECKING:
     from camfab.export.part import Drawing, Part
     from camfab.export.serialise import PartFiles
     from camfab.geometry.drum import DrumDense
+    from camfab.kinds.scene3d import Scene3D
     from camfab.motion.program import MotionProgram
 
 #: Cam-angle step at which the roller is run through a drum's groove read back from the STL.
 DRUM_VERIFY_STEP = math.radians(0.5)
+
+#: In the 3-D view, the roller's end stands this share of the groove's depth off its floor; its
+#: stem reaches this share of the drum's radius beyond it and is this share of the roller's
+#: diameter wide.
+FLOOR_GAP_SHARE = 0.05
+STEM_SHARE = 0.4
+STEM_WIDTH_SHARE = 0.6
 
 
 @dataclass(frozen=True)
@@ -186,6 +194,31 @@ def _drawing_svg(analysis: Analysis, dense: DrumDense) -> str:
     return fig.svg()
 
 
+def drum_scene(analysis: Analysis, theta: Array) -> Scene3D:
+    """The drum's scene: the drum (its STL along Z from 0 to its length) turning so that the
+    roller's axis, at polar angle α = −σθ on the drum (:meth:`~camfab.geometry.drum.Drum.
+    axis_angle`), stays on +Y; the roller on that radial axis, at the height ``start + s`` of
+    its centre, from just off the groove's floor outward, and its stem beyond the drum."""
+    from camfab.kinds.scene3d import Scene3D, Shape, along_y, bar, box_extent, rigid, turning
+
+    dense = analysis.drum
+    assert dense is not None
+    d, fol = dense.drum, analysis.design.follower
+    height = d.start + analysis.program.evaluate(theta)[0]
+    radius = fol.roller_radius or d.roller
+    length = fol.roller_length or d.depth
+    low = d.root + FLOOR_GAP_SHARE * d.depth
+    roller = Shape("cylinder", "roller", (radius, length),
+                   rigid(along_y(), np.array([0.0, low + length / 2.0, 0.0])))
+    stem = bar("stem", np.array([0.0, low + length, 0.0]),
+               np.array([0.0, low + length + STEM_SHARE * d.radius, 0.0]),
+               STEM_WIDTH_SHARE * 2.0 * radius, STEM_WIDTH_SHARE * 2.0 * radius)
+    follower = rigid(np.eye(3), np.column_stack((np.zeros((theta.size, 2)), height)))
+    return Scene3D(theta, turning(-d.axis_angle(theta))[None], (roller, stem), follower,
+                   box_extent([-d.radius, -d.radius, 0.0], [d.radius, d.radius, d.length]),
+                   np.array([[0.0, 0.0, 0.0], [0.0, 0.0, 1.0]]))
+
+
 class Drum:
     """The drum cam (``cam.type: cylindrical``)."""
 
@@ -218,6 +251,8 @@ class Drum:
         drum_nums = drum_numbers(dense, len(program.segments))
         findings = [*drum_findings(design, dense, drum_nums), *findings]
         return Analysis(design, program, units, stats, findings, DrumResult(dense, drum_nums))
+
+    scene = staticmethod(drum_scene)
 
     @staticmethod
     def part(analysis: Analysis) -> Part:

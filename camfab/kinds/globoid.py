@@ -31,6 +31,7 @@ if TYPE_CHECKING:
     from camfab.export.part import Drawing, Part
     from camfab.export.serialise import PartFiles
     from camfab.geometry.globoid_cam import GloboidCam
+    from camfab.kinds.scene3d import Scene3D, Shape
     from camfab.motion.program import MotionProgram
 
 
@@ -255,6 +256,66 @@ def _drawing_svg(analysis: Analysis, blank: GloboidCam) -> str:
     return fig.svg()
 
 
+#: In the 3-D view: the arm's width and height as a share of the roller's diameter, and how far
+#: a convex globoid's yoke passes outside the blank, as a share of its largest radius.
+ARM_SHARE = 0.6
+YOKE_CLEARANCE_SHARE = 0.1
+
+
+def globoid_scene(analysis: Analysis, theta: Array) -> Scene3D:
+    """The globoid's scene: the blank (its STL about Z, from z = −width/2 to width/2) turning by
+    σθ about Z, the arm turning about the pivot axis (parallel to Y through (C, 0, 0)) to
+    ψ = ψ₀ + s, the roller on it along the arm from ``arm − length/2`` to ``arm + length/2``
+    from the pivot (:meth:`~camfab.geometry.globoid.Globoid.axis_point`): the follower's frame
+    is the pivot's, its X axis along the arm toward the roller and its Y axis the pivot's."""
+    from camfab.kinds.scene3d import (
+        Scene3D,
+        Shape,
+        along_x,
+        along_y,
+        box_extent,
+        rigid,
+        turning,
+    )
+
+    dense = analysis.globoid
+    assert dense is not None
+    blank = dense.blank
+    g = blank.follower
+    psi = g.rest + analysis.program.evaluate(theta)[0]
+    arm = g.axis_direction(psi)
+    across = np.cross(arm, np.array([0.0, 1.0, 0.0]))
+    turn = np.stack((arm, np.broadcast_to([0.0, 1.0, 0.0], arm.shape), across), axis=-1)
+    follower = rigid(turn, np.array([g.centre, 0.0, 0.0]))
+    radius = analysis.design.follower.roller_radius or g.radius
+    roller = Shape("cylinder", "roller", (radius, g.length),
+                   rigid(along_x(), np.array([g.arm, 0.0, 0.0])))
+    size = ARM_SHARE * 2.0 * radius
+    hub = Shape("cylinder", "pivot", (size, 2.0 * size), rigid(along_y(), np.zeros(3)))
+    reach = max(blank.outer_radius, blank.ends_radius())
+    shapes = (roller, *_arm(blank.roller_outer, blank.inward < 0,
+                            reach * (1.0 + YOKE_CLEARANCE_SHARE) + size, size), hub)
+    half = blank.width / 2.0
+    return Scene3D(theta, turning(g.sigma * theta)[None], shapes, follower,
+                   box_extent([-reach, -reach, -half], [reach, reach, half]),
+                   np.array([[0.0, 0.0, 0.0], [0.0, 0.0, 1.0]]))
+
+
+def _arm(end: float, yoke: bool, offset: float, size: float) -> tuple[Shape, ...]:
+    """The arm from the pivot to the roller's outer *end* (mm along the arm), or where it
+    would pass through the blank (a convex globoid: *yoke*) a yoke round it, *offset* (mm) to
+    the side along the pivot's axis; *size* (mm) wide and high."""
+    from camfab.kinds.scene3d import bar
+
+    pivot, tip = np.zeros(3), np.array([end, 0.0, 0.0])
+    if not yoke:
+        return (bar("arm", pivot, tip, size, size),)
+    side = np.array([0.0, offset, 0.0])
+    return (bar("arm", pivot, pivot + side, size, size),
+            bar("arm", pivot + side, tip + side, size, size),
+            bar("arm", tip + side, tip, size, size))
+
+
 class Globoidal:
     """The globoidal cam (``cam.type: globoidal``)."""
 
@@ -289,6 +350,8 @@ class Globoidal:
         numbers = globoid_numbers(dense, program)
         findings = [*globoid_findings(design, dense, numbers), *findings]
         return Analysis(design, program, units, stats, findings, GloboidResult(dense, numbers))
+
+    scene = staticmethod(globoid_scene)
 
     @staticmethod
     def part(analysis: Analysis) -> Part:

@@ -32,6 +32,7 @@ if TYPE_CHECKING:
     from camfab.analysis.kinematics import MotionUnits, SegmentStats
     from camfab.analysis.record import Analysis
     from camfab.analysis.sizing import Grid, SizeProblem
+    from camfab.arrays import Array
     from camfab.curves.follower import FollowerGeometry
     from camfab.curves.profile import Profile
     from camfab.design import Design
@@ -39,6 +40,7 @@ if TYPE_CHECKING:
     from camfab.export.serialise import PartFiles
     from camfab.geometry.groove import GrooveWalls
     from camfab.geometry.plate import Contours
+    from camfab.kinds.scene3d import Scene3D
     from camfab.motion.program import MotionProgram
 
 
@@ -49,6 +51,9 @@ TICK_REACH = 1.4
 #: How far the pocket's cutting body reaches above the face (mm), so the boolean never meets
 #: two coplanar faces.
 OVERSHOOT_MM = 1.0
+
+#: The roller's end stands this share of the groove's depth off its floor, in the 3-D view.
+FLOOR_GAP_SHARE = 0.05
 
 
 def groove_part(analysis: Analysis) -> Part:
@@ -362,6 +367,22 @@ def _draw_groove(ax: Any, analysis: Analysis, walls: GrooveWalls) -> None:
 
 
 
+def groove_scene(analysis: Analysis, theta: Array) -> Scene3D:
+    """The groove cam's scene (:func:`camfab.kinds.scene3d.plate_scene`): the plate turning, the
+    roller on the exact pitch point in the groove, just off its floor, its stem above the
+    face."""
+    from camfab.kinds.scene3d import first_contact, plate_scene
+
+    walls = analysis.groove
+    assert walls is not None
+    floor = walls.thickness - walls.depth
+    length = analysis.design.follower.roller_length or walls.depth
+    low = floor + FLOOR_GAP_SHARE * walls.depth
+    contact = first_contact(analysis, theta, (low, low + length))
+    return plate_scene(analysis, theta, [contact], walls.outer_radius, walls.thickness,
+                       raised=True)
+
+
 class Groove:
     """The face-groove cam (``cam.type: groove``): a disc cam's pitch curve, the roller held
     between the groove's two walls."""
@@ -388,6 +409,7 @@ class Groove:
 
     part = staticmethod(groove_part)
     verify = staticmethod(groove_verify)
+    scene = staticmethod(groove_scene)
 
     @staticmethod
     def size_problem(design: Design, follower: FollowerGeometry,

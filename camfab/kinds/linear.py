@@ -34,6 +34,7 @@ if TYPE_CHECKING:
     from camfab.export.part import Drawing, Part
     from camfab.export.serialise import PartFiles
     from camfab.geometry.linear import LinearGeometry
+    from camfab.kinds.scene3d import Scene3D
     from camfab.motion.program import MotionProgram
 
 
@@ -309,6 +310,51 @@ def _pressure_panels(geom: LinearGeometry, top: Any, bottom: Any) -> None:
                        label=f"roller radius {geom.cam.radius:.4g} mm")
 
 
+def linear_scene(analysis: Analysis, theta: Array) -> Scene3D:
+    """The linear cam's scene: the plate (its STL in its own frame) sliding toward −X by its
+    travel, the follower over x = 0 on the exact pitch point (:meth:`~camfab.geometry.linear.
+    LinearCam.pitch`), a roller over the plate's thickness (or a knife's wedge) and its stem
+    along +Y."""
+    from camfab.kinds.scene3d import (
+        KNIFE_HEIGHT_SHARE,
+        KNIFE_WIDTH_SHARE,
+        NO_THICKNESS_SHARE,
+        STEM_LENGTH_SHARE,
+        Scene3D,
+        Shape,
+        bar,
+        box_extent,
+        rigid,
+    )
+
+    design, geom = analysis.design, analysis.linear
+    assert geom is not None
+    cam = geom.cam
+    travel = cam.travel(theta)
+    pitch = cam.pitch(travel, analysis.program.evaluate(theta)).xy
+    zeros = np.zeros(theta.size)
+    slide = rigid(np.eye(3), np.column_stack((-travel, zeros, zeros)))
+    follower = rigid(np.eye(3), np.column_stack((pitch[:, 0] - travel, pitch[:, 1], zeros)))
+    thickness = design.cam.thickness or NO_THICKNESS_SHARE * cam.base_height
+    length = design.follower.roller_length or thickness
+    middle = thickness / 2.0
+    size = cam.base_height
+    if cam.radius > 0.0:
+        tip = Shape("cylinder", "roller", (cam.radius, length),
+                    rigid(np.eye(3), np.array([0.0, 0.0, middle])))
+        start, width = cam.radius, cam.radius
+    else:
+        start, width = KNIFE_HEIGHT_SHARE * size, KNIFE_WIDTH_SHARE * size
+        tip = Shape("wedge", "knife", (width, start, length),
+                    rigid(np.eye(3), np.array([0.0, 0.0, middle])))
+    stem = bar("stem", np.array([0.0, start, middle]),
+               np.array([0.0, start + STEM_LENGTH_SHARE * size, middle]), width, length)
+    outline = geom.outline_points()
+    extent = box_extent([*outline.min(axis=0), 0.0], [*outline.max(axis=0), thickness])
+    return Scene3D(theta, slide[None], (tip, stem), follower, extent,
+                   np.array([[0.0, 0.0, 0.0], [-1.0, 0.0, 0.0]]), slides=True)
+
+
 class Linear:
     """The linear (translating, wedge) cam (``cam.type: linear``)."""
 
@@ -333,6 +379,7 @@ class Linear:
 
     part = staticmethod(linear_part)
     verify = staticmethod(linear_verify)
+    scene = staticmethod(linear_scene)
 
 
 KIND = Linear()

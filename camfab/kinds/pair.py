@@ -20,7 +20,13 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from camfab.analysis.verification import Verification
-from camfab.geometry.conjugate import hold, made_geometry, to_made_frame
+from camfab.geometry.conjugate import (
+    half_turned,
+    hold,
+    made_geometry,
+    mirrored,
+    to_made_frame,
+)
 from camfab.geometry.disc_geometry import VERIFY_STEP, LiftCheck
 from camfab.kinds.disc import PlateResult, analyse_plate, no_checks
 from camfab.kinds.readback import against_cut, read_back, verify_plate
@@ -38,6 +44,7 @@ if TYPE_CHECKING:
     from camfab.design import Design
     from camfab.export.part import Part
     from camfab.export.serialise import PartFiles
+    from camfab.kinds.scene3d import Scene3D
     from camfab.motion.program import MotionProgram
 
 
@@ -66,6 +73,56 @@ def pair_part(analysis: Analysis) -> Part:
              plate_stack([geom_a.outline_points(), made_b.outline_points()], plates["a"].holes,
                          geom_a.tolerance, thickness, [plates["a"].outline, plates["b"].outline]))
     return Part(drawings, views, solid, made=(plates, made_b))
+
+
+def conjugate_scene(analysis: Analysis, theta: Array) -> Scene3D:
+    """A conjugate pair's scene (:func:`camfab.kinds.scene3d.plate_scene`): both plates turning
+    as the one solid they are written as, roller a on cam a's exact trace point over plate a,
+    roller b on cam b's (moved into the frame it is made in) over plate b."""
+    from camfab.kinds.scene3d import (
+        PlateContact,
+        first_contact,
+        plate_scene,
+        plate_thickness,
+        roller_span,
+    )
+
+    partner = analysis.partner
+    assert partner is not None and partner.geometry is not None
+    assert partner.program is not None and partner.numbers is not None
+    thickness = plate_thickness(analysis)
+    first = first_contact(analysis, theta, roller_span(analysis, 0.0, thickness))
+    move = mirrored if partner.mirror else half_turned
+    trace, _, _, rise = partner.geometry.cam.trace(partner.program.evaluate(theta))
+    second = PlateContact(move(trace), move(rise),
+                          roller_span(analysis, thickness, 2.0 * thickness))
+    radius = max(analysis.numbers.max_radius_mm, partner.numbers.max_radius_mm)
+    return plate_scene(analysis, theta, [first, second], radius, 2.0 * thickness)
+
+
+def breadth_scene(analysis: Analysis, theta: Array) -> Scene3D:
+    """A constant-breadth cam's scene (:func:`camfab.kinds.scene3d.plate_scene`): the plate
+    turning, the yoke's first face (or roller) on the exact trace point, its other one where
+    the outline half a turn on puts it."""
+    from camfab.kinds.scene3d import (
+        PlateContact,
+        face_line,
+        first_contact,
+        plate_scene,
+        plate_thickness,
+        roller_span,
+    )
+
+    cam = analysis.geometry.cam
+    thickness = plate_thickness(analysis)
+    first = first_contact(analysis, theta, roller_span(analysis, 0.0, thickness))
+    turned = theta + math.pi
+    motion = analysis.program.evaluate(turned)
+    trace, _, _, rise = cam.trace(motion)
+    face = face_line(cam, turned, motion, half_turn=True) if cam.follower.flat else None
+    second = PlateContact(half_turned(trace), half_turned(rise), first.z, face)
+    return plate_scene(analysis, theta, [first, second], analysis.numbers.max_radius_mm,
+                       thickness)
 
 
 def _held(analysis: Analysis, check: Verification) -> Analysis:
@@ -287,6 +344,7 @@ class ConstantBreadth:
     mounted = "plate"
     inspect_refusal = None
     check = staticmethod(no_checks)
+    scene = staticmethod(breadth_scene)
 
     @staticmethod
     def analyse(design: Design, program: MotionProgram, units: MotionUnits,
@@ -324,6 +382,7 @@ class Conjugate:
     mounted = "plate"
     inspect_refusal = None
     part = staticmethod(pair_part)
+    scene = staticmethod(conjugate_scene)
 
     @staticmethod
     def check(design: Design) -> None:

@@ -11,6 +11,7 @@ from camfab.analysis.record import terse
 from camfab.kinds.disc import (
     PlateResult,
     analyse_plate,
+    disc_scene,
     no_checks,
     plate_part,
     plate_verify,
@@ -80,6 +81,7 @@ class Shaped:
     check = staticmethod(no_checks)
     inspect_refusal = None
     verify = staticmethod(plate_verify)
+    scene = staticmethod(disc_scene)
 
     @staticmethod
     def analyse(design: Design, program: MotionProgram, units: MotionUnits,

@@ -1,0 +1,373 @@
+"""The studio's web application (Starlette): the page, its static files and the API under it.
+
+Every request must carry the session's token — in the query (``?token=…``), in the header
+``X-Camfab-Token``, or, for the page's static files (which import one another by relative
+paths), as the first part of their path (``/s/TOKEN/…``); without it the answer is 403. A
+request must name this server as its host (no other name reaches it through DNS), and a POST
+from a browser must come from this server's own page (its ``Origin``). No request names a file:
+the studio reads and writes its one design file (and reads the table laws' CSV files it names).
+
+API (JSON unless said):
+
+``GET /api/report``
+    the current design's report JSON, byte for byte the ``NAME-report.json`` that
+    ``camfab build`` writes (422 with ``{"error": line}`` when the design does not load).
+``POST /api/edit`` ``{"path": "cam.base_radius", "value": 42}``
+    the key set in the studio's text (not saved) and the new report JSON; with
+    ``?respond=view`` the page's view instead (the report page of the analysis, at once,
+    before the files are made and read back).
+``POST /api/save``, ``POST /api/reload``
+    write the edits into the design file (409 when it changed on disk since it was loaded);
+    drop them and take the file as it is.
+``POST /api/size``, ``POST /api/build``
+    ``camfab size``'s answer and the edits that apply it; the files written as
+    ``camfab build`` writes them, listed.
+``GET /api/state``, ``GET /api/verified?version=N``, ``GET /api/part/I?version=N``
+    the page's view; the verified report page and the 3-D scene of version N; its I-th STL.
+``GET /api/events``
+    server-sent events: ``state`` after each change (an edit, the file changed on disk),
+    ``verified`` when its files are made and read back, ``report`` with the new report JSON
+    (as ``/api/report`` gives it) after that, ``fault`` for a failure of camfab's own.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import json
+import secrets
+import time
+from collections.abc import AsyncIterator, Awaitable, Callable
+from contextlib import asynccontextmanager
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+from starlette.applications import Starlette
+from starlette.concurrency import run_in_threadpool
+from starlette.requests import Request
+from starlette.responses import JSONResponse, Response, StreamingResponse
+from starlette.routing import Route
+from starlette.types import ASGIApp, Receive, Scope, Send
+
+from camfab.errors import CamfabError
+from camfab.serve.studio import Conflict, Studio
+from camfab.serve.yamledit import EditError
+
+#: The version of three.js vendored in ``camfab/serve/static/three`` (its README).
+THREE_VERSION = "0.187.0"
+#: Largest request body the API reads (bytes): an edit is a path and a value.
+MAX_BODY = 64 * 1024
+#: Seconds between the events stream's keep-alive comments, and between its looks at whether
+#: the server stops (a stop ends the streams within that time).
+KEEPALIVE_SECONDS = 15.0
+POLL_SECONDS = 0.25
+#: How long after a change on disk the watcher waits for more before it reads the file (ms):
+#: an editor's save is often a write and a rename.
+DEBOUNCE_MS = 40
+
+
+class Hub:
+    """The events streams open now, and the way to send each an event from any thread."""
+
+    def __init__(self) -> None:
+        self.loop: asyncio.AbstractEventLoop | None = None
+        self.queues: set[asyncio.Queue[tuple[str, str]]] = set()
+        self.stopping = asyncio.Event()
+        #: True once the server is asked to stop (it waits for the open streams to end).
+        self.should_stop: Callable[[], bool] = lambda: False
+
+    def send(self, event: str, data: str) -> None:
+        """Send *event* with *data* (text) to every stream, from any thread."""
+        loop = self.loop
+        if loop is None or loop.is_closed():
+            return
+        for queue in list(self.queues):
+            loop.call_soon_threadsafe(queue.put_nowait, (event, data))
+
+
+def _static_files() -> dict[str, tuple[Path, str]]:
+    """The page's static files by their path under ``/s/TOKEN/``: a fixed list, read from the
+    package (no request names a file)."""
+    root = Path(str(resources.files("camfab.serve") / "static"))
+    files = {}
+    for path in sorted(root.rglob("*")):
+        if path.is_file() and path.suffix in (".js", ".css"):
+            kind = "text/javascript" if path.suffix == ".js" else "text/css"
+            files[path.relative_to(root).as_posix()] = (path, kind)
+    return files
+
+
+def studio_app(studio: Studio, token: str, hosts: set[str] | None, hub: Hub) -> ASGIApp:
+    """The studio's application for *studio*: its routes behind the token, host and origin
+    checks (:func:`guarded`), the design file watched while it runs."""
+    static = _static_files()
+
+    async def page(request: Request) -> Response:
+        from camfab.export.report_html import page_template
+
+        text = page_template("studio.html.j2").render(
+            token=token, file=studio.label, three=THREE_VERSION)
+        return Response(text, media_type="text/html; charset=utf-8",
+                        headers={"Cache-Control": "no-store"})
+
+    async def asset(request: Request) -> Response:
+        found = static.get(request.path_params["name"])
+        if found is None:
+            return Response("not found", status_code=404)
+        path, kind = found
+        return Response(path.read_bytes(), media_type=kind,
+                        headers={"Cache-Control": "private, max-age=3600"})
+
+    async def state(request: Request) -> Response:
+        return JSONResponse(await run_in_threadpool(studio.state))
+
+    async def report(request: Request) -> Response:
+        return await _report_of(studio)
+
+    async def edit(request: Request) -> Response:
+        body = await _json_body(request)
+        if not isinstance(body, dict) or set(body) != {"path", "value"}:
+            return _problem(400, 'the body must be {"path": ..., "value": ...}')
+        started = time.perf_counter()
+        try:
+            view = await run_in_threadpool(studio.edit, body["path"], body["value"])
+        except EditError as exc:
+            return _problem(400, str(exc))
+        if request.query_params.get("respond") == "view":  # the page's: no fields, it has them
+            spent = (time.perf_counter() - started) * 1e3
+            return JSONResponse(studio.state(fields=False),
+                                headers={"Server-Timing": f"edit;dur={spent:.1f}"})
+        if view.error is not None:
+            return _problem(422, view.error)
+        return await _report_of(studio)
+
+    async def save(request: Request) -> Response:
+        try:
+            saved = await run_in_threadpool(studio.save)
+        except Conflict as exc:
+            return _problem(409, str(exc))
+        except CamfabError as exc:
+            return _problem(500, str(exc))
+        return JSONResponse({"saved": saved, "edited": studio.edited})
+
+    async def reload(request: Request) -> Response:
+        try:
+            await run_in_threadpool(studio.reload)
+        except CamfabError as exc:
+            return _problem(422, str(exc))
+        return JSONResponse(await run_in_threadpool(studio.state))
+
+    async def size(request: Request) -> Response:
+        try:
+            return JSONResponse(await run_in_threadpool(studio.size))
+        except CamfabError as exc:
+            return _problem(422, str(exc))
+
+    async def build(request: Request) -> Response:
+        try:
+            return JSONResponse(await run_in_threadpool(studio.build))
+        except CamfabError as exc:
+            return _problem(422, str(exc))
+
+    async def verified(request: Request) -> Response:
+        version = _version(request)
+        try:
+            made = await run_in_threadpool(studio.verified, version)
+            scene = await run_in_threadpool(_scene, made)
+        except CamfabError as exc:
+            return _problem(409, str(exc))
+        return JSONResponse({"version": made.version, "html": made.html, "scene": scene,
+                             "exit_code": made.analysis.exit_code})
+
+    async def part(request: Request) -> Response:
+        try:
+            made = await run_in_threadpool(studio.verified, _version(request))
+            name = made.stl_names[int(request.path_params["index"])]
+        except (CamfabError, IndexError) as exc:
+            return _problem(409 if isinstance(exc, CamfabError) else 404, str(exc))
+        return Response(made.artifacts.files[name], media_type="model/stl")
+
+    async def events(request: Request) -> Response:
+        return StreamingResponse(_stream(hub, studio), media_type="text/event-stream",
+                                 headers={"Cache-Control": "no-store"})
+
+    @asynccontextmanager
+    async def lifespan(app: Starlette) -> AsyncIterator[None]:
+        hub.loop = asyncio.get_running_loop()
+        watcher = asyncio.create_task(_watch(studio, hub))
+        try:
+            yield
+        finally:
+            hub.stopping.set()
+            watcher.cancel()
+            studio.close()
+
+    routes = [
+        Route("/", page),
+        Route("/s/{key}/{name:path}", asset),
+        Route("/api/state", state),
+        Route("/api/report", report),
+        Route("/api/edit", edit, methods=["POST"]),
+        Route("/api/save", save, methods=["POST"]),
+        Route("/api/reload", reload, methods=["POST"]),
+        Route("/api/size", size, methods=["POST"]),
+        Route("/api/build", build, methods=["POST"]),
+        Route("/api/verified", verified),
+        Route("/api/part/{index:int}", part),
+        Route("/api/events", events),
+    ]
+    return guarded(Starlette(routes=routes, lifespan=lifespan), token, hosts)
+
+
+def guarded(app: ASGIApp, token: str, hosts: set[str] | None) -> ASGIApp:
+    """*app* behind the checks every request passes: the token (query ``token``, header
+    ``X-Camfab-Token``, or ``/s/TOKEN/`` for the static files), a Host header naming this
+    server (one of *hosts*; any when None, a server on every address), and for a POST an
+    ``Origin``, when the client sends one (a browser does), of this server's own page. A
+    request that fails one gets 403 and nothing else."""
+    from urllib.parse import parse_qs
+
+    async def check(scope: Scope, receive: Receive, send: Send) -> None:
+        if scope["type"] != "http":
+            await app(scope, receive, send)
+            return
+        headers = {k.decode("latin-1").lower(): v.decode("latin-1")
+                   for k, v in scope.get("headers", [])}
+        path = scope.get("path", "")
+        given = headers.get("x-camfab-token")
+        if given is None and path.startswith("/s/"):
+            given = path.split("/", 3)[2]
+        if given is None:
+            query = parse_qs(scope.get("query_string", b"").decode("latin-1"))
+            given = (query.get("token") or [None])[0]
+        ok = given is not None and secrets.compare_digest(given.encode(), token.encode())
+        host = headers.get("host", "")
+        ok = ok and (hosts is None or host in hosts)
+        if ok and scope.get("method") not in ("GET", "HEAD"):
+            origin = headers.get("origin")
+            ok = origin is None or origin == f"http://{host}"
+        if not ok:
+            await Response("forbidden: this studio needs its token (see the URL camfab serve "
+                           "printed)", status_code=403, media_type="text/plain")(
+                scope, receive, send)
+            return
+        await app(scope, receive, send)
+
+    return check
+
+
+def _problem(status: int, line: str) -> JSONResponse:
+    return JSONResponse({"error": line}, status_code=status)
+
+
+def _version(request: Request) -> int | None:
+    text = request.query_params.get("version")
+    return int(text) if text is not None and text.isdigit() and len(text) < 12 else None
+
+
+async def _json_body(request: Request) -> Any:
+    """The request's JSON body, of at most :data:`MAX_BODY` bytes (None when it is not)."""
+    data = bytearray()
+    async for chunk in request.stream():
+        data += chunk
+        if len(data) > MAX_BODY:
+            return None
+    try:
+        return json.loads(data)
+    except (ValueError, UnicodeDecodeError):
+        return None
+
+
+async def _report_of(studio: Studio) -> Response:
+    try:
+        made = await run_in_threadpool(studio.verified)
+    except CamfabError as exc:
+        return _problem(422, str(exc))
+    return Response(made.report_json, media_type="application/json")
+
+
+def _scene(made: Any) -> dict[str, Any] | None:
+    """The 3-D scene of a verified version (None when it has no STL)."""
+    if not made.stl_names:
+        return None
+    from camfab.serve.scene import scene_json
+
+    return scene_json(made.analysis, list(made.stl_names))
+
+
+def event_text(event: str, data: str) -> str:
+    """A server-sent event: its name and its data, a ``data:`` line per line of it."""
+    lines = "".join(f"data: {line}\n" for line in data.split("\n"))
+    return f"event: {event}\n{lines}\n"
+
+
+async def _stream(hub: Hub, studio: Studio) -> AsyncIterator[str]:
+    """An events stream: the studio's state first, then each event sent, until the server
+    stops."""
+    queue: asyncio.Queue[tuple[str, str]] = asyncio.Queue()
+    hub.queues.add(queue)
+    try:
+        view = studio.view
+        yield event_text("state", json.dumps({
+            "version": view.version, "error": view.error, "edited": studio.edited,
+            "conflict": studio.conflict, "origin": "connect"}))
+        quiet = 0.0
+        while not (hub.stopping.is_set() or hub.should_stop()):
+            try:
+                event, data = await asyncio.wait_for(queue.get(), POLL_SECONDS)
+            except asyncio.TimeoutError:
+                quiet += POLL_SECONDS
+                if quiet >= KEEPALIVE_SECONDS:
+                    quiet = 0.0
+                    yield ": keep-alive\n\n"
+                continue
+            quiet = 0.0
+            yield event_text(event, data)
+    finally:
+        hub.queues.discard(queue)
+
+
+def notifier(hub: Hub, studio_of: Callable[[], Studio | None]) -> Callable[
+        [str, dict[str, Any]], None]:
+    """The studio's *notify*: each event sent to the streams as JSON, and after ``verified``
+    the new report JSON as a ``report`` event."""
+
+    def notify(event: str, data: dict[str, Any]) -> None:
+        hub.send(event, json.dumps(data))
+        studio = studio_of()
+        if event == "verified" and studio is not None:
+            try:
+                made = studio.verified(data["version"])
+            except CamfabError:
+                return
+            hub.send("report", made.report_json.decode("utf-8").rstrip("\n"))
+
+    return notify
+
+
+async def _watch(studio: Studio, hub: Hub,
+                 wait: Callable[[float], Awaitable[None]] = asyncio.sleep) -> None:
+    """Follow the design file (and its table laws' CSV files) on disk: a change made in any
+    editor is read again (:meth:`Studio.from_disk`). The folders holding them are watched, so
+    an editor that saves by renaming a new file over the old is seen too."""
+    import watchfiles
+
+    while not hub.stopping.is_set():
+        files = {studio.path.resolve(), *studio.tables()}
+        folders = sorted({str(f.parent) for f in files if f.parent.is_dir()})
+        stop = asyncio.Event()
+
+        def wanted(change: Any, path: str, files: set[Path] = files) -> bool:
+            return Path(path).resolve() in files
+
+        try:
+            async for _ in watchfiles.awatch(*folders, watch_filter=wanted,
+                                             debounce=DEBOUNCE_MS, step=10,
+                                             stop_event=stop, recursive=False):
+                changed = await run_in_threadpool(studio.from_disk)
+                if not changed:  # the text is the same: a table law's CSV file, perhaps
+                    await run_in_threadpool(studio.tables_changed)
+                if {studio.path.resolve(), *studio.tables()} != files:
+                    break  # the table files named changed: watch the new set
+        except (FileNotFoundError, RuntimeError):
+            await wait(0.2)  # a folder gone for a moment: watch again

@@ -1,0 +1,338 @@
+"""The studio's state: one design file, the edits made in the page and not saved yet, the last
+design that loaded, and what the page shows of it.
+
+A change (an edit, the file saved in an editor, a table law's CSV changed) makes a new
+*version*: the design is loaded from the text and analysed at once, and the report page of
+that analysis (:func:`~camfab.export.report_html.render_report_html`) is what the page redraws
+— tens of milliseconds. The sizing advice of the failed checks (a search of some hundredths of
+a second), the files, their read-back and the verification (``camfab build``'s work, up to
+seconds for a globoid) follow for the latest version only, a moment after the changes stop
+(:data:`SETTLE_SECONDS`), and bring the verified report, its JSON (the same bytes as the
+build's ``NAME-report.json``) and the part's STL for the 3-D view.
+
+No web library is imported here: :mod:`camfab.serve.app` puts this behind HTTP.
+"""
+
+from __future__ import annotations
+
+import threading
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from camfab.errors import CamfabError
+
+if TYPE_CHECKING:
+    from camfab.analysis.record import Analysis
+    from camfab.design import Design
+    from camfab.pipeline import Artifacts
+
+#: How long the changes must stop (s) before the files are made and read back for the latest
+#: version: while a slider is dragged only the analysis runs, which keeps each redraw quick.
+SETTLE_SECONDS = 0.4
+
+
+class Conflict(CamfabError):
+    """The design file changed on disk since the studio loaded it (a save would lose that)."""
+
+
+@dataclass(frozen=True)
+class View:
+    """What the page shows of one version: the design's report page from its analysis (the
+    verification still to come), or the located line of why the text does not load (the page
+    then keeps the last good picture)."""
+
+    version: int
+    html: str | None
+    error: str | None
+    name: str | None
+
+
+@dataclass(frozen=True)
+class Verified:
+    """One version built as ``camfab build`` builds it: its files (bytes by name), the
+    verified analysis, the report page and JSON, and the part's STL files for the 3-D view."""
+
+    version: int
+    artifacts: Artifacts
+    analysis: Analysis
+    html: str
+    report_json: bytes
+    stl_names: tuple[str, ...]
+
+
+class Studio:
+    """The studio of the design file *path* (*label*: the path as the user gave it, which the
+    messages name). *notify* is called with an event name and its data (JSON-able) after each
+    change: ``state`` for a new version, ``verified`` when its files are made and read back;
+    it may be called from any thread."""
+
+    def __init__(self, path: Path, label: str,
+                 notify: Callable[[str, dict[str, Any]], None] | None = None) -> None:
+        from camfab.design.source import read_design_text
+
+        self.path = path
+        self.label = label
+        self.notify = notify or (lambda event, data: None)
+        self._lock = threading.RLock()
+        self.disk_text = read_design_text(path)  # raises on a missing or unreadable file
+        self.text = self.disk_text
+        self.conflict = False
+        self.version = 0
+        self.view = View(0, None, None, None)
+        self.good: tuple[Design, Analysis] | None = None  # the last version that loaded
+        self._verified: Verified | None = None
+        self._timer: threading.Timer | None = None
+        self._building = threading.Lock()
+        self._change(self.text, origin="load")
+
+    # --- the state -----------------------------------------------------------------------
+
+    @property
+    def edited(self) -> bool:
+        """True when the page's edits are not saved."""
+        return self.text != self.disk_text
+
+    def state(self, fields: bool = True) -> dict[str, Any]:
+        """The page's view of the studio: the version, its report page or error, whether there
+        are edits to save and whether the file changed on disk meanwhile, and (with *fields*)
+        the values to edit."""
+        from camfab.serve.yamledit import fields as values
+
+        view = self.view
+        state = {"version": view.version, "html": view.html, "error": view.error,
+                 "name": view.name, "file": self.label, "edited": self.edited,
+                 "conflict": self.conflict}
+        if fields:
+            try:
+                state["fields"] = [f.as_json() for f in values(self.text)]
+            except Exception:  # a text YAML cannot read: its line is the error shown
+                state["fields"] = []
+        return state
+
+    def _summary(self, origin: str) -> dict[str, Any]:
+        view = self.view
+        return {"version": view.version, "error": view.error, "edited": self.edited,
+                "conflict": self.conflict, "origin": origin}
+
+    def _change(self, text: str, origin: str) -> View:
+        """Load and analyse *text* as the next version; the page's view of it."""
+        from camfab.export.report_html import render_report_html
+        from camfab.pipeline import analyse, design_from_text
+
+        with self._lock:
+            self.text = text
+            self.version += 1
+            version = self.version
+            try:
+                design = design_from_text(text, self.label, self.path.parent)
+                analysis = analyse(design, advice=False)  # the advice comes with the files
+                html = render_report_html(analysis).decode("utf-8")
+            except CamfabError as exc:
+                self.view = View(version, self.view.html, str(exc), self.view.name)
+            else:
+                self.good = (design, analysis)
+                self.view = View(version, html, None, design.name)
+            self._verified = None
+            self.notify("state", self._summary(origin))
+            if self.view.error is None:
+                self._settle()
+            return self.view
+
+    # --- what the page and the API do ------------------------------------------------------
+
+    def edit(self, path: str, value: Any) -> View:
+        """Set the key at *path* to *value* in the text (not saved) and analyse it (raises
+        :class:`~camfab.serve.yamledit.EditError` for a path the design has not)."""
+        from camfab.serve.yamledit import set_value
+
+        with self._lock:
+            return self._change(set_value(self.text, path, value), origin="edit")
+
+    def from_disk(self) -> bool:
+        """Read the file again after a change on disk (or of a table law's CSV file): the page
+        follows it, unless it holds edits not saved, which are kept (and a save refused); True
+        when it made a new version."""
+        from camfab.design.source import read_design_text
+
+        with self._lock:
+            try:
+                text = read_design_text(self.path)
+            except CamfabError as exc:  # gone, or unreadable, for now: say so, keep the rest
+                self.view = View(self.version, self.view.html, str(exc), self.view.name)
+                self.notify("state", self._summary("disk"))
+                return False
+            if self.edited:
+                if text != self.disk_text:
+                    self.conflict = True
+                    self.notify("state", self._summary("disk"))
+                return False
+            self.disk_text = text
+            self._change(text, origin="disk")
+            return True
+
+    def tables_changed(self) -> None:
+        """Analyse the text again after a change of the table laws' CSV files it names."""
+        with self._lock:
+            if self.tables():
+                self._change(self.text, origin="disk")
+
+    def reload(self) -> View:
+        """Drop the edits and take the file as it is on disk."""
+        from camfab.design.source import read_design_text
+
+        with self._lock:
+            self.disk_text = read_design_text(self.path)
+            self.conflict = False
+            return self._change(self.disk_text, origin="reload")
+
+    def save(self) -> str:
+        """Write the edited text into the design file, as one step, its permissions kept; the
+        file's path. Refused (:class:`Conflict`) when the file changed on disk since it was
+        loaded."""
+        from camfab.design.source import read_design_text
+        from camfab.writing import replace_file
+
+        with self._lock:
+            try:
+                now = read_design_text(self.path)
+            except CamfabError:
+                now = None
+            if self.conflict or now != self.disk_text:
+                self.conflict = True
+                self.notify("state", self._summary("disk"))
+                raise Conflict(f"{self.label}: changed on disk since the studio loaded it; not "
+                               "saved (Reload takes the file as it is, dropping the edits)")
+            if self.edited:
+                replace_file(self.path, self.text.encode("utf-8"))
+                self.disk_text = self.text
+            self.notify("state", self._summary("save"))
+            return self.label
+
+    def size(self) -> dict[str, Any]:
+        """``camfab size`` of the text as it is: its lines, and the edits that would give the
+        design the size found (the least base radius, or a drum's radius, in the design's
+        units)."""
+        from camfab.design.loader import unsized_design
+        from camfab.pipeline import size_design
+        from camfab.sizing_text import sizing_lines
+
+        with self._lock:
+            design, sized = unsized_design(self.label, frozenset({"cam.base_radius",
+                                                                  "cam.radius"}), self.text)
+            sizing = size_design(design, sized)
+        edits = []
+        if sizing.size is not None:
+            edits.append({"path": f"cam.{sizing.key}",
+                          "value": round(sizing.size / design.mm_per_unit, 6)})
+        return {"lines": sizing_lines(design, sizing), "edits": edits,
+                "found": sizing.size is not None}
+
+    def build(self, out_dir: Path | None = None) -> dict[str, Any]:
+        """Write the files of the current version as ``camfab build`` writes them
+        (``exports/NAME/`` under the working folder); the folder, the files and the exit
+        status."""
+        from camfab.pipeline import output_folder
+        from camfab.writing import write_files
+
+        verified = self.verified()
+        design = verified.analysis.design
+        folder = output_folder(design, out_dir)
+        written = write_files(folder, verified.artifacts.files)
+        return {"folder": str(folder), "files": [p.name for p in written],
+                "not_produced": list(verified.artifacts.not_produced),
+                "exit_code": verified.analysis.exit_code}
+
+    def tables(self) -> set[Path]:
+        """The table laws' CSV files the text names (resolved from the design's folder)."""
+        from camfab.serve.yamledit import compose
+
+        found: set[Path] = set()
+        try:
+            root = compose(self.text)
+        except Exception:
+            return found
+        pending = [root]
+        while pending:
+            node = pending.pop()
+            kind = type(node).__name__
+            if kind == "MappingNode":
+                for key, value in node.value:
+                    if key.value == "csv" and type(value).__name__ == "ScalarNode":
+                        found.add((self.path.parent / str(value.value)).resolve())
+                    else:
+                        pending.append(value)
+            elif kind == "SequenceNode":
+                pending.extend(node.value)
+        return found
+
+    # --- the files, made and read back -----------------------------------------------------
+
+    def verified(self, version: int | None = None) -> Verified:
+        """The current version built and verified (made now if not yet); raises CamfabError
+        when the current text does not load, or when *version* is given and not current."""
+        with self._lock:
+            if version is not None and version != self.version:
+                raise CamfabError(f"version {version} is not the current one ({self.version})")
+            if self.view.error is not None or self.good is None:
+                raise CamfabError(self.view.error or "the design has not loaded")
+            cached = self._verified
+            if cached is not None and cached.version == self.version:
+                return cached
+            version, (design, _) = self.version, self.good
+        with self._building:  # one build at a time; the lock is free for edits meanwhile
+            with self._lock:
+                cached = self._verified
+                if cached is not None and cached.version == version:
+                    return cached
+            made = _verify(version, design)
+            with self._lock:
+                if version == self.version:
+                    self._verified = made
+            return made
+
+    def _settle(self) -> None:
+        """Build and verify the current version once the changes stop for a moment."""
+        if self._timer is not None:
+            self._timer.cancel()
+        self._timer = threading.Timer(SETTLE_SECONDS, self._verify_now, (self.version,))
+        self._timer.daemon = True
+        self._timer.start()
+
+    def _verify_now(self, version: int) -> None:
+        try:
+            made = self.verified(version)
+        except CamfabError:  # a newer version came meanwhile (or does not load)
+            return
+        except Exception as exc:  # a fault of camfab's: said in the page, the studio goes on
+            self.notify("fault", {"version": version, "error": f"{type(exc).__name__}: {exc}"})
+            return
+        self.notify("verified", {"version": made.version,
+                                 "exit_code": made.analysis.exit_code})
+
+    def close(self) -> None:
+        """Stop the pending build of the files."""
+        if self._timer is not None:
+            self._timer.cancel()
+
+
+def _verify(version: int, design: Design) -> Verified:
+    """*design* analysed and rendered as ``camfab build`` does it (each failed check a sizing
+    answers told the size that passes): its files, read back."""
+    from camfab.pipeline import analyse, render
+
+    analysis = analyse(design)
+    artifacts = render(analysis)
+    done = artifacts.analysis or analysis
+    files = artifacts.files
+    name = done.design.name
+    page = files.get(f"{name}-report.html")
+    report = files.get(f"{name}-report.json")
+    if page is None or report is None:  # a design whose outputs leave the report out
+        from camfab.export.report_html import render_report_html
+        from camfab.export.report_json import render_report_json
+
+        page, report = render_report_html(done), render_report_json(done)
+    return Verified(version, artifacts, done, page.decode("utf-8"), report,
+                    tuple(n for n in files if n.endswith(".stl")))
