@@ -77,9 +77,9 @@ def wait(browser: Any, script: str, *args: Any) -> Any:
 
 
 def front(browser: Any, script: str) -> Any:
-    """*script* run on the report in front (``doc``: its document)."""
+    """*script* run on the report shown (``doc``: its document)."""
     return browser.execute_script(
-        "const doc = document.querySelector('#report iframe:not(.back)').contentDocument;"
+        "const doc = document.getElementById('report-frame').contentDocument;"
         + script)
 
 

@@ -1,18 +1,16 @@
 // camfab studio: the page's side of `camfab serve` (camfab/serve/app.py holds the API).
 //
 // An edit in the page is sent at once (the newest wins while one is on its way) and its answer,
-// the report page of the new analysis, is drawn into the back one of two frames, which comes to
-// the front when it has loaded, at the same cam angle and scroll: the measured time from the
-// edit to that moment is kept in window.camfabLatencies (and as a Performance API measure
-// "camfab-redraw"). When the files are made and read back (a moment after the edits stop), the
-// verified report replaces it and the 3-D view gets the part's STL.
+// the report page of the new analysis, is put in place of the report shown (its body, its
+// scripts run again over it), at the same cam angle and scroll: the measured time from the
+// edit to the frame that paints it is kept in window.camfabLatencies (and as a Performance API
+// measure "camfab-redraw"). When the files are made and read back (a moment after the edits
+// stop), the verified report replaces it and the 3-D view gets the part's STL.
 
 const body = document.body;
 const token = body.dataset.token;
 const headers = { "X-Camfab-Token": token, "Content-Type": "application/json" };
-const frames = [document.getElementById("frame-a"), document.getElementById("frame-b")];
-let front = 0;
-let shown = 0;            // the version in the front frame
+let shown = 0;            // the version shown
 let verifiedShown = 0;    // the version whose verified report and scene are shown
 let frame = 0;            // the report's cam-angle frame
 let fieldPaths = "";
@@ -42,16 +40,20 @@ function notice(nodes) {
 
 function text(tag, words) { const node = document.createElement(tag); node.textContent = words; return node; }
 
-// --- the report, in two frames ---------------------------------------------------------------
+// --- the report ------------------------------------------------------------------------------
 
-function reportFrame(doc) { return doc ? doc.getElementById("angle") : null; }
+const report = document.getElementById("report-frame");
+// the report's sections below the fold laid out only when scrolled to: a redraw costs what
+// the screen shows
+const LAZY = "<style>main > section { content-visibility: auto; " +
+  "contain-intrinsic-size: auto 40em; }</style>";
+let loaded = false;       // the frame holds a report (later ones are put in its place)
+let drawing = Promise.resolve();
 
-function followFrame(iframe) {
+function followFrame() {
   // the report's own script moves its drawing; the 3-D view follows its body's data-frame
-  const doc = iframe.contentDocument;
-  if (!doc || !doc.body) { return; }
+  const doc = report.contentDocument;
   const watch = new MutationObserver(function () {
-    if (iframe !== frames[front]) { return; }
     const now = +(doc.body.getAttribute("data-frame") || 0);
     if (now === frame) { return; }
     frame = now;
@@ -60,57 +62,67 @@ function followFrame(iframe) {
   watch.observe(doc.body, { attributes: true, attributeFilter: ["data-frame"] });
 }
 
-// the report's sections below the fold laid out only when scrolled to: a redraw costs what
-// the screen shows
-const LAZY = "<style>main > section { content-visibility: auto; " +
-  "contain-intrinsic-size: auto 40em; }</style>";
-let drawing = Promise.resolve();
-
 function draw(html, version, started, kind) {
-  // one draw at a time, in order (both go through the back frame); a view older than the one
-  // shown is dropped
+  // one draw at a time, in order; a view older than the one shown is dropped
   drawing = drawing.then(function () {
     if (version < shown || (version === shown && kind === body.dataset.shown)) { return null; }
-    return drawNow(html, version, started, kind);
+    return loaded ? patch(html, version, started, kind) : first(html, version, started, kind);
   });
   return drawing;
 }
 
-function drawNow(html, version, started, kind) {
-  // the new report into the back frame; to the front when loaded, at the same angle and scroll
+function first(html, version, started, kind) {
+  // the first report: a document of its own in the frame
   const answered = performance.now();
   return new Promise(function (done) {
-    const back = frames[1 - front];
-    const old = frames[front];
-    back.onload = function () {
-      back.onload = null;
-      const doc = back.contentDocument;
-      const slider = reportFrame(doc);
-      if (slider) {
-        slider.value = String(Math.min(frame, +slider.max));
-        slider.dispatchEvent(new Event("input"));
-      }
-      try {
-        back.contentWindow.scrollTo(old.contentWindow.scrollX, old.contentWindow.scrollY);
-      } catch (e) { /* the first report: nothing to keep */ }
-      followFrame(back);
-      back.classList.remove("back");
-      old.classList.add("back");
-      front = 1 - front;
-      shown = version;
-      body.dataset.version = String(version);
-      body.dataset.shown = kind;
-      if (started === null) { done(); return; }
-      requestAnimationFrame(function () {  // the frame that paints the swap begins
-        const ms = performance.now() - started;
-        window.camfabLatencies.push(ms);
-        window.camfabParts.push([answered - started, ms - (answered - started), serverMs]);
-        try { performance.measure("camfab-redraw", { start: started, end: started + ms }); }
-        catch (e) { /* an older browser without measure options */ }
-        done();
-      });
+    report.onload = function () {
+      report.onload = null;
+      loaded = true;
+      followFrame();
+      drawn(version, started, answered, kind).then(done);
     };
-    back.srcdoc = html.replace("</head>", LAZY + "</head>");
+    report.srcdoc = html.replace("</head>", LAZY + "</head>");
+  });
+}
+
+function patch(html, version, started, kind) {
+  // a later report put in place of the one shown: its body (the page around it, its styles and
+  // the scroll stay), then its scripts run again over it, at the cam angle shown
+  const answered = performance.now();
+  const doc = report.contentDocument;
+  const parsed = new DOMParser().parseFromString(html, "text/html");
+  const keep = frame;
+  const nodes = Array.from(parsed.body.childNodes);  // a copy: adopting a node moves it
+  doc.body.replaceChildren(...nodes.map(function (node) { return doc.adoptNode(node); }));
+  doc.body.querySelectorAll("script:not([type])").forEach(function (old) {
+    const script = doc.createElement("script");
+    script.textContent = old.textContent;
+    old.replaceWith(script);
+  });
+  const slider = doc.getElementById("angle");
+  if (slider) {
+    slider.value = String(Math.min(keep, +slider.max));
+    slider.dispatchEvent(new Event("input"));
+  }
+  return drawn(version, started, answered, kind);
+}
+
+function drawn(version, started, answered, kind) {
+  // the new report is in place: the next frame paints it (measured when it has)
+  shown = version;
+  body.dataset.version = String(version);
+  body.dataset.shown = kind;
+  return new Promise(function (done) {
+    if (started === null) { done(); return; }
+    // the frame after next begins once the next one (its style, layout and paint) is done
+    requestAnimationFrame(function () { requestAnimationFrame(function () {
+      const ms = performance.now() - started;
+      window.camfabLatencies.push(ms);
+      window.camfabParts.push([answered - started, ms - (answered - started), serverMs]);
+      try { performance.measure("camfab-redraw", { start: started, end: started + ms }); }
+      catch (e) { /* an older browser without measure options */ }
+      done();
+    }); });
   });
 }
 
