@@ -131,6 +131,8 @@ def test_an_edit_answers_the_edited_design_s_report_and_leaves_the_file(
     ({"path": "motion[7].lift", "value": 1}, "the design has no motion[7]"),
     ({"path": "cam.base_radius", "value": [1]}, "must be a number, a word or true/false"),
     ({"path": "cam.base_radius"}, 'the body must be {"path": ..., "value": ...}'),
+    ({"path": "motion[0].rise.csv", "value": "/etc/passwd"},
+     "motion[0].rise.csv: names a file, which the studio does not change"),
 ])
 def test_an_edit_the_design_cannot_take_is_refused_with_its_line(
         disc: Served, edit: dict[str, Any], said: str) -> None:

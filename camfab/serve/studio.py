@@ -131,6 +131,10 @@ class Studio:
                 html = render_report_html(analysis).decode("utf-8")
             except CamfabError as exc:
                 self.view = View(version, self.view.html, str(exc), self.view.name)
+            except Exception as exc:  # a fault of camfab's: said as the build says it
+                line = (f"{self.label}: internal error: {type(exc).__name__}: {exc} (please "
+                        "report it)")
+                self.view = View(version, self.view.html, line, self.view.name)
             else:
                 self.good = (design, analysis)
                 self.view = View(version, html, None, design.name)
@@ -167,6 +171,8 @@ class Studio:
                 if text != self.disk_text:
                     self.conflict = True
                     self.notify("state", self._summary("disk"))
+                return False
+            if text == self.disk_text and self.view.error is None:  # touched, not changed
                 return False
             self.disk_text = text
             self._change(text, origin="disk")

@@ -112,7 +112,11 @@ def _scalar(value: Any, old: Any) -> str:
     if isinstance(value, float):
         if value.is_integer() and abs(value) < 1e15 and (old is None or old.tag == _INT):
             return str(int(value))
-        return repr(value)
+        text = repr(value)
+        mantissa, _, exponent = text.partition("e")
+        if exponent and "." not in mantissa:  # YAML 1.1 reads 1e-07 as a word: 1.0e-07
+            text = f"{mantissa}.0e{exponent}"
+        return text
     style = getattr(old, "style", None)
     if style == "'":
         return "'" + value.replace("'", "''") + "'"
@@ -150,10 +154,14 @@ def _check_value(path: str, value: Any) -> Any:
 def set_value(text: str, path: str, value: Any) -> str:
     """*text* with the key at *path* set to *value* (a number, a word or a boolean): the old
     value's characters replaced, all others kept. A mapping the design has may gain the key;
-    a list only has its items changed (raises EditError)."""
+    a list only has its items changed. A key that names a file (:data:`FILE_KEYS`) is not
+    edited: no request names a file (raises EditError)."""
     value = _check_value(path, value)
     root = compose(text)
     holder, key, node = _find(root, path)
+    if key in FILE_KEYS:
+        raise EditError(f"{path}: names a file, which the studio does not change (edit it in "
+                        "the design file)")
     if node is not None:
         if not _is(node, "ScalarNode"):
             raise EditError(f"{path}: holds a {'list' if _is(node, 'SequenceNode') else 'mapping'}"
@@ -236,6 +244,8 @@ class Field:
         return out
 
 
+#: Keys whose value names a file (a table law's CSV): shown, not edited, in the studio.
+FILE_KEYS = frozenset({"csv"})
 #: Words the design file takes as a choice, by key (the others are text).
 CHOICES = {"rotation": ("ccw", "cw"), "units": ("mm", "in"), "pivot_side": ("left", "right")}
 #: Keys that are an angle (deg): their slider runs over a turn (or a quarter of one).
@@ -245,8 +255,8 @@ _ANGLES = {"angle", "start", "end", "pressure_angle", "phase"}
 def fields(text: str) -> list[Field]:
     """Every value of the design in YAML *text* the page edits, in the file's order: the
     numbers (a slider each, its range from the value as loaded), the motion laws as a choice,
-    the words that are a choice, other text; not the name and description, nor the items of a
-    list (a table law's points)."""
+    the words that are a choice, other text; not the name and description, the keys that name
+    a file, nor the items of a list (a table law's points)."""
     from camfab.design.source import dotted
     from camfab.motion.laws import LAW_NAMES
 
@@ -259,7 +269,7 @@ def fields(text: str) -> list[Field]:
         elif _is(node, "SequenceNode"):
             for i, value in enumerate(node.value):
                 walk((*path, i), value)
-        elif path and isinstance(path[-1], str) and path[-1] != "name" \
+        elif path and isinstance(path[-1], str) and path[-1] not in ("name", *FILE_KEYS) \
                 and path != ("description",):
             out.append(_field(dotted(path), path[-1], node, LAW_NAMES))
 
