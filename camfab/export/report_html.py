@@ -17,6 +17,7 @@ from camfab.analysis.findings import count
 
 if TYPE_CHECKING:
     import jinja2
+    import numpy as np
 
     from camfab.analysis.record import Analysis
 
@@ -286,9 +287,25 @@ def animation_data(analysis: Analysis) -> dict[str, Any]:
         typical = np.sort(column[np.isfinite(column) & (column > 0.0)])
         if typical.size:
             rows[column < 1e-9 * typical[typical.size // 2], k] = 0.0
-    return {"labels": labels,
-            "rows": [[None if not np.isfinite(v) else float(f"{v:.6g}") for v in row]
-                     for row in rows]}
+    return {"labels": labels, "rows": six_digits(rows)}
+
+
+def six_digits(values: np.ndarray) -> list[list[float | None]]:
+    """The rows of *values* (2-D) as lists of numbers to 6 significant digits (what
+    ``float(f"{v:.6g}")`` gives), a value that is not finite as None. The digits are written by
+    one ``%`` format of every value and read back by numpy: some ten times quicker than a
+    format per value, with the same numbers (both round correctly)."""
+    import numpy as np
+
+    flat = values.ravel()
+    good = np.isfinite(flat)
+    text = ("%.6g," * flat.size) % tuple(np.where(good, flat, 0.0).tolist())
+    numbers = np.array(text[:-1].split(","), dtype=float) if flat.size else flat
+    rows = numbers.reshape(values.shape).tolist()
+    if not good.all():
+        for i, j in zip(*np.nonzero(~good.reshape(values.shape)), strict=True):
+            rows[i][j] = None
+    return rows
 
 
 #: Units in the keys of camfab's tables, as written on the page; the longer suffix first where
