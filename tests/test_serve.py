@@ -4,7 +4,8 @@ byte, the ``NAME-report.json`` that ``camfab build`` writes of the same file, an
 answer that of the edited file, the file on disk untouched; every request without the token, or
 naming another host, or a POST from another origin, is refused; a save changes the one value
 and keeps every comment and the layout, and is refused once the file changed on disk; the file
-saved in another editor reaches the events stream as the new report; Ctrl-C stops the server
+saved in another editor reaches the events stream as the new report, and so does a table law's
+CSV file changed; Ctrl-C stops the server
 with 130 and leaves no temporary file; a missing file, a port in use or a host that is not this
 machine's is one line and status 2."""
 
@@ -260,6 +261,27 @@ def test_the_file_saved_in_an_editor_reaches_the_events_as_its_new_report(
     finally:
         code, err = served.stop()
     assert code == 130 and err == "camfab: interrupted\n"
+
+
+def test_a_table_law_s_csv_file_is_watched_too(tmp_path: Path) -> None:
+    served = serve(tmp_path, "demo-table")
+    points = "0, 0\n20, 1.2\n40, 6.0\n60, 12.5\n80, 16.8\n100, {}\n"
+    table = tmp_path / "lift.csv"
+    table.write_text(points.format(18))
+    try:
+        events = _events(served, time.monotonic() + BACKSTOP)
+        assert next(events)[0] == "state"
+        text = served.file.read_text()
+        served.file.write_text(re.sub(r"points: \[\[.*\]\]", "csv: lift.csv", text))
+        lift = next(json.loads(data)["segments"][0]["lift_mm"] for event, data in events
+                    if event == "report" and '"csv": "lift.csv"' in data)
+        assert lift == 18
+        table.write_text(points.format(21))
+        lift = next(json.loads(data)["segments"][0]["lift_mm"] for event, data in events
+                    if event == "report" and json.loads(data)["segments"][0]["lift_mm"] != 18)
+        assert lift == 21
+    finally:
+        assert served.stop()[0] == 130
 
 
 def test_ctrl_c_stops_it_with_130_and_no_temporary_file(disc: Served) -> None:
