@@ -4,16 +4,17 @@ For each example, a ``camfab serve`` of a copy of it is started and its page ope
 Chromium (Selenium, chromium-driver; a 1280 × 800 window; Chromium draws in software here, with
 no GPU). Once the page has its first verified report, a numeric key is dragged: its slider is
 moved step by step, each step as the page sends a drag's (the next when the redraw of the last
-is done), watched from inside the page so that the harness does not poll it meanwhile. The page measures each step with the Performance API,
-from the slider's input event to the new report in front (``window.camfabLatencies``), and
-splits it into the wait for the answer (of which the server's own time, its Server-Timing) and
-the drawing (``window.camfabParts``). Then the edits are saved and the file written again on
-disk, as another editor saves it, and the time until the page shows it is taken. Printed per
-example: the median and the 95th percentile of the redraws, the parts' medians, the time until
-the verified report and the 3-D part follow the last step, and the time until a save on disk
+is done), watched from inside the page so that the harness does not poll it meanwhile. The
+page measures each step with the Performance API, from the slider's input event to the frame
+after the one that paints the new report (``window.camfabLatencies``), and splits it into the
+wait for the answer (of which the server's own time, its Server-Timing) and the drawing
+(``window.camfabParts``). Then the edits are saved and the file written again on disk, as
+another editor saves it, and the time until the page shows it is taken. Printed per example:
+the median and the 95th percentile of the redraws, the parts' medians, the time until the
+verified report and the 3-D part follow the last step, and the time until a save on disk
 shows (target: 0.5 s).
 
-Targets (issue 37): p95 ≤ 100 ms for plate cams, ≤ 300 ms for drums and globoids.
+Targets: p95 ≤ 100 ms for plate cams, ≤ 300 ms for drums and globoids.
 
     python benchmarks/studio_latency.py --steps 30
     python benchmarks/studio_latency.py --steps 30 --only demo-globoidal-convex

@@ -218,7 +218,7 @@ def test_the_readme_keeps_its_two_commands_and_stays_short() -> None:
     lines = readme.splitlines()
     assert MAIN_COMMAND in lines and TEST_COMMAND in lines
     assert lines.index(MAIN_COMMAND) + 1 == lines.index(TEST_COMMAND)
-    assert "6–7 minutes on 2 cores" in readme
+    assert "9–10 minutes on 2 cores" in readme
     assert len(lines) <= 200
     ci = (ROOT / ".ci" / "run").read_text(encoding="utf-8")
     assert TEST_COMMAND in ci.splitlines()

@@ -62,7 +62,7 @@ def test_every_value_offered_is_changed_alone(path: Any) -> None:
         assert yaml.safe_load(edited) == want, field.path
         before, after = text.splitlines(), edited.splitlines()
         assert len(before) == len(after)
-        assert sum(a != b for a, b in zip(before, after)) == 1, field.path
+        assert sum(a != b for a, b in zip(before, after, strict=True)) == 1, field.path
         assert yamledit.get_value(edited, field.path) == new
 
 
