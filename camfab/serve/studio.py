@@ -37,6 +37,10 @@ class Conflict(CamfabError):
     """The design file changed on disk since the studio loaded it (a save would lose that)."""
 
 
+class Stale(CamfabError):
+    """A version asked for is no longer the current one."""
+
+
 @dataclass(frozen=True)
 class View:
     """What the page shows of one version: the design's report page from its analysis (the
@@ -280,7 +284,7 @@ class Studio:
         when the current text does not load, or when *version* is given and not current."""
         with self._lock:
             if version is not None and version != self.version:
-                raise CamfabError(f"version {version} is not the current one ({self.version})")
+                raise Stale(f"version {version} is not the current one ({self.version})")
             if self.view.error is not None or self.good is None:
                 raise CamfabError(self.view.error or "the design has not loaded")
             cached = self._verified
@@ -309,7 +313,10 @@ class Studio:
     def _verify_now(self, version: int) -> None:
         try:
             made = self.verified(version)
-        except CamfabError:  # a newer version came meanwhile (or does not load)
+        except Stale:  # a newer version came meanwhile: its own build follows
+            return
+        except CamfabError as exc:  # the files cannot be made: said in the page
+            self.notify("fault", {"version": version, "error": str(exc)})
             return
         except Exception as exc:  # a fault of camfab's: said in the page, the studio goes on
             self.notify("fault", {"version": version, "error": f"{type(exc).__name__}: {exc}"})

@@ -348,13 +348,16 @@ const events = new EventSource("/api/events?token=" + encodeURIComponent(token))
 events.addEventListener("state", async function (e) {
   const data = JSON.parse(e.data);
   status(data);
-  if (!data.error) { el("verifying").hidden = false; }
+  if (!data.error && data.version > verifiedShown) { el("verifying").hidden = false; }
   if (data.version > shown && !sending && queued === null && !data.error) {
     const [ok, answer] = await call("/api/state");
     if (ok) { await apply(answer, null); }
   } else if (data.error) {
     body.dataset.version = String(data.version);
-    if (data.origin !== "edit") { const [ok, answer] = await call("/api/state"); if (ok) { fields(answer.fields); } }
+    if (data.origin !== "edit") {  // the file broken on disk: its values as they are now
+      const [ok, answer] = await call("/api/state");
+      if (ok) { fields(answer.fields); }
+    }
   }
 });
 events.addEventListener("verified", function (e) {
@@ -362,7 +365,8 @@ events.addEventListener("verified", function (e) {
   verified(verifiedReady);
 });
 events.addEventListener("fault", function (e) {
-  notice([text("span", "camfab failed making the files: " + JSON.parse(e.data).error)]);
+  el("verifying").hidden = true;
+  notice([text("span", "the files were not made: " + JSON.parse(e.data).error)]);
 });
 
 (async function () {
