@@ -48,6 +48,31 @@ def test_the_build_passes_and_its_verification_holds_the_tolerance(globoid) -> N
     assert analysis.verification.deviation_mm <= 1e-9
 
 
+def test_the_roller_run_measuring_the_near_edges_first_is_the_run_over_them_all(
+        globoid, monkeypatch: pytest.MonkeyPatch) -> None:  # type: ignore[no-untyped-def]
+    """The read-back's roller run measures the edges near the roller's axis first and every
+    edge of its window only where a side has no wall near: the same numbers, bit for bit, as
+    measuring them all at every pose (``NEAR_SHARE`` infinite), and as measuring them all
+    after the near ones at every pose (``NEAR_SHARE`` 0: a side never near enough)."""
+    from camfab.geometry import globoid_cam
+    from camfab.motion.program import cycle_angles
+
+    analysis, stl = globoid
+    blank = analysis.globoid.blank
+    mesh = trimesh.load(trimesh.util.wrap_as_stream(stl), file_type="stl")
+    vertices, faces = np.asarray(mesh.vertices), np.asarray(mesh.faces)
+    edges = globoid_cam.mesh_edges(vertices, faces, globoid_cam.near_roller(blank, vertices))
+    theta = cycle_angles(globoid_cam.VERIFY_STEP)[::6]
+    motion = analysis.program.evaluate(theta)
+    runs = []
+    for share in (globoid_cam.NEAR_SHARE, math.inf, 0.0):
+        monkeypatch.setattr(globoid_cam, "NEAR_SHARE", share)
+        run = globoid_cam.roller_run(blank, edges, theta, motion)
+        runs.append(np.stack((run.cut_mm, run.gap_plus_mm, run.gap_minus_mm)))
+    assert np.isfinite(runs[0]).all()
+    assert np.array_equal(runs[0], runs[1]) and np.array_equal(runs[0], runs[2])
+
+
 def test_the_tube_stays_within_the_tolerance_of_the_exact_flanks(globoid) -> None:  # type: ignore[no-untyped-def]
     """At points of the flanks between the tube's stations and rows, the exact flank's distance
     from the plane of the tube's facet there."""

@@ -462,7 +462,14 @@ def roller_run(blank: GloboidCam, edges: Array, theta: Array, motion: Array) -> 
     line, in closed form, is measured by its distance from it where it lies beside the
     roller's length, those on either side of the plane (a, a × n) apart (the flank on the +
     side of n and on the −). The nearest point of a flat facet to a line that does not pierce
-    it lies on its edges, so the edges measure the facets."""
+    it lies on its edges, so the edges measure the facets.
+
+    At each pose the edges that start within :data:`NEAR_SHARE` roller radii (and an edge's
+    length) of the axis line are measured first: an edge further off is further than that
+    from the axis wherever it lies, so where the nearest on each side is nearer, it is the
+    nearest of all. Where it is not (a side with no wall near), every edge of the window is
+    measured. The numbers are those of measuring them all, bit for bit: each edge's come from
+    the same operations, and a least value is the same whichever set holds it."""
     g = blank.follower
     ends = blank.contact(2)
     low, high = float(np.min(ends)), float(np.max(ends))
@@ -479,41 +486,69 @@ def roller_run(blank: GloboidCam, edges: Array, theta: Array, motion: Array) -> 
     r_min = float(np.min(blank.radius_at(np.asarray([low, high])[:, None], psi_all[None, :])))
     reach = g.radius * 1.5 + 1.0 + half_edge
     window = math.pi if r_min <= reach else math.asin(reach / r_min) + 0.02
+    near = NEAR_SHARE * g.radius  # measured first: edges this near the axis line (mm)
+    # how far an edge's start may stand off the axis line for some point of it to be that
+    # near: its length further, with a margin for rounding (mm)
+    reach_of = (near + np.linalg.norm(step, axis=1)) * (1.0 + 1e-9) + 1e-9
     cut, gap_p, gap_m = (np.full(theta.size, np.inf) for _ in range(3))
     for k, t in enumerate(np.asarray(theta, dtype=np.float64)):
         psi, dpsi = g.rest + motion[0, k], motion[1, k]
         axis = to_cam(np.array([-math.cos(psi), 0.0, math.sin(psi)]), g.sigma * t)
         pivot = to_cam(np.array([g.centre, 0.0, 0.0]), g.sigma * t)
         mid = to_cam(g.axis_point(np.asarray(middle), np.asarray(psi)), g.sigma * t)
-        pick = _window(polar, math.atan2(float(mid[1]), float(mid[0])), window)
-        a, e = start[pick] - pivot, step[pick]
-        # the stretch of each edge beside the roller's length: low ≤ (a + s·e)·axis ≤ high
-        a_along, e_along = a @ axis, e @ axis
-        with np.errstate(divide="ignore", invalid="ignore"):
-            s_low, s_high = (low - a_along) / e_along, (high - a_along) / e_along
-        flat = np.abs(e_along) < 1e-12
-        first = np.where(flat, 0.0, np.maximum(np.minimum(s_low, s_high), 0.0))
-        last = np.where(flat, 1.0, np.minimum(np.maximum(s_low, s_high), 1.0))
-        beside = (first <= last) & (~flat | ((a_along >= low) & (a_along <= high)))
-        if not beside.any():
-            continue
-        a, e, first, last = a[beside], e[beside], first[beside], last[beside]
-        # across the axis: a⊥ + s·e⊥, nearest at s = −a⊥·e⊥/|e⊥|², kept on that stretch
-        a_across = a - np.outer(a @ axis, axis)
-        e_across = e - np.outer(e @ axis, axis)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            s = -np.einsum("ij,ij->i", a_across, e_across) / np.einsum("ij,ij->i", e_across,
-                                                                        e_across)
-        s = np.clip(np.nan_to_num(s, nan=0.0), first, last)
-        radial = a_across + s[:, None] * e_across
-        off = np.linalg.norm(radial, axis=1)
         n = to_cam(g.normal(np.asarray(middle), np.asarray(psi), np.asarray(dpsi)), g.sigma * t)
-        side = radial @ n
-        cut[k] = float(g.radius - off.min())
-        plus, minus = off[side > 0], off[side < 0]
-        gap_p[k] = float(plus.min() - g.radius) if plus.size else np.inf
-        gap_m[k] = float(minus.min() - g.radius) if minus.size else np.inf
+        pick = _window(polar, math.atan2(float(mid[1]), float(mid[0])), window)
+        a = start[pick] - pivot
+        a_along = a @ axis
+        off_axis = np.sqrt(np.maximum(np.einsum("ij,ij->i", a, a) - a_along * a_along, 0.0))
+        first = np.flatnonzero(off_axis <= reach_of[pick])
+        found = _nearest(a[first], step[pick[first]], a_along[first], axis, n, low, high)
+        if found is None or max(found) > near:  # a side with no wall near: measure them all
+            found = _nearest(a, step[pick], a_along, axis, n, low, high)
+            if found is None:
+                continue
+        cut[k] = float(g.radius - found[0])
+        gap_p[k] = found[1] - g.radius
+        gap_m[k] = found[2] - g.radius
     return RollerRun(np.asarray(theta), cut, gap_p, gap_m)
+
+
+#: The edges measured first at a pose of the roller: those within this many roller radii of
+#: its axis line (its walls stand one radius off, a groove's clearance and the flanks' slope
+#: add little to that).
+NEAR_SHARE = 1.25
+
+
+def _nearest(a: Array, e: Array, a_along: Array, axis: Array, n: Array, low: float,
+             high: float) -> tuple[float, float, float] | None:
+    """The least distance (mm) from the roller's axis line of the edges from *a* along *e*
+    (mm, from the pivot; *a_along*: a · axis) over their stretch beside the roller's length
+    (``low ≤ (a + s·e)·axis ≤ high``): of all of them, of those on the + side of the normal
+    *n* and of those on its − side (inf where there is none); None when no edge lies beside
+    it."""
+    e_along = e @ axis
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s_low, s_high = (low - a_along) / e_along, (high - a_along) / e_along
+    flat = np.abs(e_along) < 1e-12
+    first = np.where(flat, 0.0, np.maximum(np.minimum(s_low, s_high), 0.0))
+    last = np.where(flat, 1.0, np.minimum(np.maximum(s_low, s_high), 1.0))
+    beside = (first <= last) & (~flat | ((a_along >= low) & (a_along <= high)))
+    if not beside.any():
+        return None
+    a, e, first, last = a[beside], e[beside], first[beside], last[beside]
+    # across the axis: a⊥ + s·e⊥, nearest at s = −a⊥·e⊥/|e⊥|², kept on that stretch
+    a_across = a - np.outer(a @ axis, axis)
+    e_across = e - np.outer(e @ axis, axis)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s = -np.einsum("ij,ij->i", a_across, e_across) / np.einsum("ij,ij->i", e_across,
+                                                                    e_across)
+    s = np.clip(np.nan_to_num(s, nan=0.0), first, last)
+    radial = a_across + s[:, None] * e_across
+    off = np.linalg.norm(radial, axis=1)
+    side = radial @ n
+    plus, minus = off[side > 0], off[side < 0]
+    return (float(off.min()), float(plus.min()) if plus.size else math.inf,
+            float(minus.min()) if minus.size else math.inf)
 
 
 def _split(edges: Array, longest: float) -> Array:
