@@ -595,7 +595,12 @@ def near_roller(blank: GloboidCam, points: Array) -> Array:
 def mesh_edges(vertices: Array, faces: Array, keep: Array | None = None) -> Array:
     """The mesh's edges, each once, as (E, 2, 3) end points (mm): of those with an end among
     the vertices *keep* (a mask; all by default)."""
-    edges = np.unique(np.sort(faces[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1), axis=0)
+    pairs = np.sort(faces[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1).astype(np.int64)
+    # each pair as one number, in the pairs' order: numpy's unique of numbers, not of rows
+    # (some five times quicker), gives the same edges in the same order
+    count = np.int64(max(len(vertices), 1))
+    keys = np.unique(pairs[:, 0] * count + pairs[:, 1])
+    edges = np.column_stack((keys // count, keys % count))
     if keep is not None:
         edges = edges[keep[edges[:, 0]] | keep[edges[:, 1]]]
     return vertices[edges]
