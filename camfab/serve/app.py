@@ -36,7 +36,7 @@ import asyncio
 import json
 import secrets
 import time
-from collections.abc import AsyncIterator, Awaitable, Callable
+from collections.abc import AsyncIterator, Callable
 from contextlib import asynccontextmanager
 from importlib import resources
 from pathlib import Path
@@ -327,26 +327,17 @@ async def _stream(hub: Hub, studio: Studio) -> AsyncIterator[str]:
         hub.queues.discard(queue)
 
 
-def notifier(hub: Hub, studio_of: Callable[[], Studio | None]) -> Callable[
-        [str, dict[str, Any]], None]:
-    """The studio's *notify*: each event sent to the streams as JSON, and after ``verified``
-    the new report JSON as a ``report`` event."""
+def notifier(hub: Hub) -> Callable[[str, dict[str, Any] | str], None]:
+    """The studio's *notify*: each event sent to the streams, its data as JSON (text as it
+    is: the report JSON)."""
 
-    def notify(event: str, data: dict[str, Any]) -> None:
-        hub.send(event, json.dumps(data))
-        studio = studio_of()
-        if event == "verified" and studio is not None:
-            try:
-                made = studio.verified(data["version"])
-            except CamfabError:
-                return
-            hub.send("report", made.report_json.decode("utf-8").rstrip("\n"))
+    def notify(event: str, data: dict[str, Any] | str) -> None:
+        hub.send(event, data if isinstance(data, str) else json.dumps(data))
 
     return notify
 
 
-async def _watch(studio: Studio, hub: Hub,
-                 wait: Callable[[float], Awaitable[None]] = asyncio.sleep) -> None:
+async def _watch(studio: Studio, hub: Hub) -> None:
     """Follow the design file (and its table laws' CSV files) on disk: a change made in any
     editor is read again (:meth:`Studio.from_disk`). The folders holding them are watched, so
     an editor that saves by renaming a new file over the old is seen too."""
@@ -355,7 +346,6 @@ async def _watch(studio: Studio, hub: Hub,
     while not hub.stopping.is_set():
         files = {studio.path.resolve(), *studio.tables()}
         folders = sorted({str(f.parent) for f in files if f.parent.is_dir()})
-        stop = asyncio.Event()
 
         def wanted(change: Any, path: str, files: set[Path] = files) -> bool:
             return Path(path).resolve() in files
@@ -363,11 +353,11 @@ async def _watch(studio: Studio, hub: Hub,
         try:
             async for _ in watchfiles.awatch(*folders, watch_filter=wanted,
                                              debounce=DEBOUNCE_MS, step=10,
-                                             stop_event=stop, recursive=False):
+                                             recursive=False):
                 changed = await run_in_threadpool(studio.from_disk)
                 if not changed:  # the text is the same: a table law's CSV file, perhaps
                     await run_in_threadpool(studio.tables_changed)
                 if {studio.path.resolve(), *studio.tables()} != files:
                     break  # the table files named changed: watch the new set
         except (FileNotFoundError, RuntimeError):
-            await wait(0.2)  # a folder gone for a moment: watch again
+            await asyncio.sleep(0.2)  # a folder gone for a moment: watch again

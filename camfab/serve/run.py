@@ -119,9 +119,7 @@ def _run(path: Path, label: str, sock: socket.socket, host: str, port: int,
     hosts = None if _wildcard(host) else {f"{shown}:{port}"} | (
         {f"localhost:{port}", f"127.0.0.1:{port}", f"[::1]:{port}"} if _loopback(host) else set())
     hub = Hub()
-    holder: list[Studio] = []
-    studio = Studio(path, label, notifier(hub, lambda: holder[0] if holder else None))
-    holder.append(studio)
+    studio = Studio(path, label, notifier(hub))
     app = studio_app(studio, token, hosts, hub)
     config = uvicorn.Config(app, log_level="warning", access_log=False, lifespan="on",
                             timeout_graceful_shutdown=2)

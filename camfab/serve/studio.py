@@ -68,12 +68,13 @@ class Verified:
 
 class Studio:
     """The studio of the design file *path* (*label*: the path as the user gave it, which the
-    messages name). *notify* is called with an event name and its data (JSON-able) after each
-    change: ``state`` for a new version, ``verified`` when its files are made and read back;
-    it may be called from any thread."""
+    messages name). *notify* is called with an event name and its data (JSON-able, or text
+    as it is) after each change: ``state`` for a new version, ``verified`` when its files are
+    made and read back, then ``report`` with its report JSON; it may be called from any
+    thread."""
 
     def __init__(self, path: Path, label: str,
-                 notify: Callable[[str, dict[str, Any]], None] | None = None) -> None:
+                 notify: Callable[[str, dict[str, Any] | str], None] | None = None) -> None:
         from camfab.design.source import read_design_text
 
         self.path = path
@@ -256,26 +257,9 @@ class Studio:
 
     def tables(self) -> set[Path]:
         """The table laws' CSV files the text names (resolved from the design's folder)."""
-        from camfab.serve.yamledit import compose
+        from camfab.serve.yamledit import named_files
 
-        found: set[Path] = set()
-        try:
-            root = compose(self.text)
-        except Exception:
-            return found
-        pending = [root]
-        while pending:
-            node = pending.pop()
-            kind = type(node).__name__
-            if kind == "MappingNode":
-                for key, value in node.value:
-                    if key.value == "csv" and type(value).__name__ == "ScalarNode":
-                        found.add((self.path.parent / str(value.value)).resolve())
-                    else:
-                        pending.append(value)
-            elif kind == "SequenceNode":
-                pending.extend(node.value)
-        return found
+        return {(self.path.parent / name).resolve() for name in named_files(self.text)}
 
     # --- the files, made and read back -----------------------------------------------------
 
@@ -323,6 +307,8 @@ class Studio:
             return
         self.notify("verified", {"version": made.version,
                                  "exit_code": made.analysis.exit_code})
+        if made.version == self.version:  # not replaced meanwhile
+            self.notify("report", made.report_json.decode("utf-8").rstrip("\n"))
 
     def close(self) -> None:
         """Stop the pending build of the files."""

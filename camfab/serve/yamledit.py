@@ -279,6 +279,28 @@ def fields(text: str) -> list[Field]:
     return out
 
 
+def named_files(text: str) -> list[str]:
+    """The values of the keys in YAML *text* that name a file (:data:`FILE_KEYS`), as
+    written; none when the text is not YAML."""
+    try:
+        root = compose(text)
+    except Exception:  # a text YAML cannot read: its line is the error the page shows
+        return []
+    found: list[str] = []
+    pending = [root] if root is not None else []
+    while pending:
+        node = pending.pop()
+        if _is(node, "MappingNode"):
+            for key, value in node.value:
+                if key.value in FILE_KEYS and _is(value, "ScalarNode"):
+                    found.append(str(value.value))
+                else:
+                    pending.append(value)
+        elif _is(node, "SequenceNode"):
+            pending.extend(node.value)
+    return found
+
+
 def _field(path: str, key: str, node: Any, laws: tuple[str, ...]) -> Field:
     value = _typed(node)
     if isinstance(value, (int, float)) and not isinstance(value, bool):
