@@ -39,6 +39,22 @@ def tool(name: str, package: str | None = None) -> str:
     return path
 
 
+def chromium(*flags: str) -> Any:
+    """Debian's Chromium, headless, driven through Selenium (chromium-driver; nothing downloads
+    a browser), with *flags* besides the ones every test gives it; a skip (a failure in CI)
+    when any of them is not installed."""
+    webdriver = pytest.importorskip("selenium.webdriver")
+    from selenium.webdriver.chrome.service import Service
+
+    options = webdriver.ChromeOptions()
+    for flag in ("--headless=new", "--no-sandbox", "--disable-background-networking",
+                 "--no-first-run", *flags):
+        options.add_argument(flag)
+    options.binary_location = tool("chromium", "chromium")
+    return webdriver.Chrome(service=Service(tool("chromedriver", "chromium-driver")),
+                            options=options)
+
+
 def need_step_extra() -> None:
     """At a test module's top: skip the module (fail it in CI, which installs the extra) when
     the STEP extra's OpenCASCADE bindings are not installed."""

@@ -28,7 +28,7 @@ from pydantic import BaseModel
 from camfab.design import Design
 from camfab.pipeline import analyse, load_design, render
 
-from .conftest import DESIGN_FILES, DESIGNS, tool
+from .conftest import DESIGN_FILES, DESIGNS, chromium, tool
 
 #: One design of every cam kind (and of every follower of a disc cam).
 KINDS = ["seed-10-4", "seed-10-3-oscillating", "demo-oscillating-flat", "demo-inch-flat",
@@ -42,16 +42,7 @@ FRAMES = (0, 37, 90, 181, 270, 359)
 
 @pytest.fixture(scope="module")
 def browser() -> Any:
-    webdriver = pytest.importorskip("selenium.webdriver")
-    from selenium.webdriver.chrome.service import Service
-
-    driver_path = tool("chromedriver", "chromium-driver")
-    options = webdriver.ChromeOptions()
-    for flag in ("--headless=new", "--no-sandbox", "--disable-gpu", "--window-size=1280,1000",
-                 "--disable-background-networking", "--no-first-run"):
-        options.add_argument(flag)
-    options.binary_location = tool("chromium", "chromium")
-    driver = webdriver.Chrome(service=Service(driver_path), options=options)
+    driver = chromium("--disable-gpu", "--window-size=1280,1000")
     yield driver
     driver.quit()
 

@@ -19,7 +19,7 @@ from typing import Any
 
 import pytest
 
-from .conftest import DESIGNS, tool
+from .conftest import DESIGNS, chromium
 
 pytest.importorskip("starlette")
 pytest.importorskip("uvicorn")
@@ -31,17 +31,8 @@ NAME = "seed-10-4"
 
 @pytest.fixture(scope="module")
 def browser() -> Any:
-    webdriver = pytest.importorskip("selenium.webdriver")
-    from selenium.webdriver.chrome.service import Service
-
-    driver_path = tool("chromedriver", "chromium-driver")
-    options = webdriver.ChromeOptions()
-    for flag in ("--headless=new", "--no-sandbox", "--window-size=1500,1000",
-                 "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
-                 "--disable-background-networking", "--no-first-run"):
-        options.add_argument(flag)
-    options.binary_location = tool("chromium", "chromium")
-    driver = webdriver.Chrome(service=Service(driver_path), options=options)
+    driver = chromium("--window-size=1500,1000", "--use-angle=swiftshader",
+                      "--enable-unsafe-swiftshader")
     yield driver
     driver.quit()
 

@@ -29,7 +29,7 @@ from camfab.kinds import kind_of
 from camfab.pipeline import analyse, load_design, render, verify_exports
 from camfab.serve.scene import scene_json
 
-from .conftest import DESIGNS, tool
+from .conftest import DESIGNS, chromium
 
 trimesh = pytest.importorskip("trimesh")
 
@@ -269,16 +269,7 @@ def served(tmp_path_factory: pytest.TempPathFactory) -> Any:
 
 
 def _browser(flags: tuple[str, ...]) -> Any:
-    webdriver = pytest.importorskip("selenium.webdriver")
-    from selenium.webdriver.chrome.service import Service
-
-    options = webdriver.ChromeOptions()
-    for flag in ("--headless=new", "--no-sandbox", "--window-size=800,600",
-                 "--disable-background-networking", "--no-first-run", *flags):
-        options.add_argument(flag)
-    options.binary_location = tool("chromium", "chromium")
-    return webdriver.Chrome(service=Service(tool("chromedriver", "chromium-driver")),
-                            options=options)
+    return chromium("--window-size=800,600", *flags)
 
 
 def _wait(browser: Any, script: str, seconds: float = 30.0) -> Any:
