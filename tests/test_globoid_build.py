@@ -50,27 +50,45 @@ def test_the_build_passes_and_its_verification_holds_the_tolerance(globoid) -> N
 
 def test_the_roller_run_measuring_the_near_edges_first_is_the_run_over_them_all(
         globoid, monkeypatch: pytest.MonkeyPatch) -> None:  # type: ignore[no-untyped-def]
-    """The read-back's roller run measures the edges near the roller's axis first and every
-    edge of its window only where a side has no wall near: the same numbers, bit for bit, as
-    measuring them all at every pose (``NEAR_SHARE`` infinite), and as measuring them all
-    after the near ones at every pose (``NEAR_SHARE`` 0: a side never near enough)."""
-    from camfab.geometry import globoid_cam
+    """The read-back's roller run measures, at each pose, the edges its search finds near the
+    roller's axis, and every edge of its window only where a side has no wall that near: the
+    same numbers, bit for bit, as measuring them all at every pose (``NEAR_TOLERANCES``
+    infinite), as measuring them all after the near ones at every pose (minus infinity: a
+    side never near enough), and as a search within a thousandth of the tolerance (some poses
+    measure all, some not), whatever the size of the blocks of poses that share a pass."""
+    from camfab.geometry import globoid_run
+    from camfab.geometry.globoid_cam import VERIFY_STEP
     from camfab.motion.program import cycle_angles
 
     analysis, stl = globoid
     blank = analysis.globoid.blank
+    tolerance = analysis.design.manufacturing.tolerance
     mesh = trimesh.load(trimesh.util.wrap_as_stream(stl), file_type="stl")
     vertices, faces = np.asarray(mesh.vertices), np.asarray(mesh.faces)
-    edges = globoid_cam.mesh_edges(vertices, faces, globoid_cam.near_roller(blank, vertices))
-    theta = cycle_angles(globoid_cam.VERIFY_STEP)[::6]
+    edges = globoid_run.mesh_edges(vertices, faces, globoid_run.near_roller(blank, vertices))
+    theta = cycle_angles(VERIFY_STEP)[::3]
     motion = analysis.program.evaluate(theta)
-    runs = []
-    for share in (globoid_cam.NEAR_SHARE, math.inf, 0.0):
-        monkeypatch.setattr(globoid_cam, "NEAR_SHARE", share)
-        run = globoid_cam.roller_run(blank, edges, theta, motion)
+    runs, fell_back = [], []
+    measure_all = globoid_run._nearest
+
+    def counted(*args):  # type: ignore[no-untyped-def]
+        fell_back.append(len(args[0]))
+        return measure_all(*args)
+
+    for near, block in ((globoid_run.NEAR_TOLERANCES, globoid_run.BLOCK), (math.inf, 3),
+                        (-math.inf, 5), (1e-3, 1)):
+        monkeypatch.setattr(globoid_run, "NEAR_TOLERANCES", near)
+        monkeypatch.setattr(globoid_run, "BLOCK", block)
+        fell_back.clear()
+        monkeypatch.setattr(globoid_run, "_nearest", counted)
+        run = globoid_run.roller_run(blank, edges, theta, motion, tolerance)
+        monkeypatch.setattr(globoid_run, "_nearest", measure_all)
         runs.append(np.stack((run.cut_mm, run.gap_plus_mm, run.gap_minus_mm)))
+        if near == 1e-3:  # a call per pose, and one more at each pose that measured them all
+            assert theta.size < len(fell_back) < 2 * theta.size
     assert np.isfinite(runs[0]).all()
-    assert np.array_equal(runs[0], runs[1]) and np.array_equal(runs[0], runs[2])
+    for other in runs[1:]:
+        assert np.array_equal(runs[0], other)
 
 
 def test_the_tube_stays_within_the_tolerance_of_the_exact_flanks(globoid) -> None:  # type: ignore[no-untyped-def]

@@ -530,12 +530,8 @@ def globoid_verify(analysis: Analysis, part: Part, files: PartFiles) -> Verifica
     half-section measured against the exact one."""
     from camfab.export.dxf import read_cut_outline
     from camfab.geometry.disc_geometry import LiftCheck
-    from camfab.geometry.globoid_cam import (
-        VERIFY_STEP,
-        mesh_edges,
-        near_roller,
-        roller_run,
-    )
+    from camfab.geometry.globoid_cam import VERIFY_STEP
+    from camfab.geometry.globoid_run import mesh_edges, near_roller, roller_run
     from camfab.kinds.readback import groove_mesh
     from camfab.motion.program import cycle_angles
 
@@ -549,7 +545,7 @@ def globoid_verify(analysis: Analysis, part: Part, files: PartFiles) -> Verifica
               else f"the roller put in the groove of {design.name}.stl read back")
     theta = cycle_angles(VERIFY_STEP * (4 if folded else 1))  # (a fold: what it would do)
     edges = mesh_edges(vertices, faces, near_roller(blank, vertices))
-    run = roller_run(blank, edges, theta, program.evaluate(theta))
+    run = roller_run(blank, edges, theta, program.evaluate(theta), tolerance)
     # each flank's distance from the roller's wall radius: off it (> 0) or into it (< 0)
     error = np.maximum(np.abs(run.gap_plus_mm), np.abs(run.gap_minus_mm))
     error = np.maximum(error, run.cut_mm)
