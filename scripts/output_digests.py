@@ -3,6 +3,7 @@ design and every starter: run before and after a change that must change no byte
 
     python scripts/output_digests.py            # one line per output, then the digest of all
     python scripts/output_digests.py --summary  # the digest of all only
+    python scripts/output_digests.py --step     # every build with --step (the STEP files too)
 
 Covered: ``camfab build`` of each ``designs/*.yaml`` and of each ``camfab new KIND`` starter
 (every file written), ``camfab check`` of each (its text, with the terminal width fixed), and
@@ -33,7 +34,7 @@ def _sha(data: bytes) -> str:
     return hashlib.sha256(data).hexdigest()
 
 
-def digests(work: Path, jobs: int) -> list[tuple[str, str]]:
+def digests(work: Path, jobs: int, step: bool = False) -> list[tuple[str, str]]:
     """(sha256, what) for every output, in a fixed order."""
     from camfab.cli import STARTER_KINDS
 
@@ -47,15 +48,16 @@ def digests(work: Path, jobs: int) -> list[tuple[str, str]]:
     from concurrent.futures import ThreadPoolExecutor
 
     with ThreadPoolExecutor(jobs) as pool:
-        per_design = list(pool.map(lambda d: _design_rows(d, work), designs))
+        per_design = list(pool.map(lambda d: _design_rows(d, work, step), designs))
     return [row for rows in per_design for row in rows]
 
 
-def _design_rows(design: Path, work: Path) -> list[tuple[str, str]]:
+def _design_rows(design: Path, work: Path, step: bool) -> list[tuple[str, str]]:
     rows: list[tuple[str, str]] = []
     label = design.stem
     out = work / "builds" / label
-    build = _camfab("build", str(design), "-o", str(out), cwd=work)
+    build = _camfab("build", str(design), "-o", str(out), *(["--step"] if step else []),
+                    cwd=work)
     rows.append((_sha(str(build.returncode).encode() + build.stderr.replace(
         str(work).encode(), b"WORK")), f"{label} build status"))
     for path in sorted(out.iterdir()):
@@ -82,9 +84,11 @@ def main() -> None:
     parser.add_argument("--summary", action="store_true", help="print the digest of all only")
     parser.add_argument("-j", "--jobs", type=int, default=os.cpu_count() or 1,
                         help="designs run at once (default: the processor count)")
+    parser.add_argument("--step", action="store_true",
+                        help="build with --step: the STEP files (and their check) too")
     args = parser.parse_args()
     with tempfile.TemporaryDirectory() as temp:
-        rows = digests(Path(temp), args.jobs)
+        rows = digests(Path(temp), args.jobs, args.step)
     listing = "".join(f"{sha}  {what}\n" for sha, what in rows)
     if not args.summary:
         sys.stdout.write(listing)

@@ -243,6 +243,36 @@ def test_a_drum_reads_back_as_one_valid_solid_of_the_exact_volume(path: Path) ->
     assert volume(shape) == pytest.approx(exact, abs=design.manufacturing.tolerance * 1e3)
 
 
+def test_the_checks_deviation_projects_only_the_probes_that_can_be_farthest(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """The STEP check's distance of the exact surface's probes from the fitted faces: the
+    same number, bit for bit, as projecting every probe (each probe's bound, from a point of
+    the surface found near it, never below its projection's distance), from a few of them."""
+    from camfab.export import step
+    from camfab.kinds import kind_of
+
+    design, artifacts = stepped(DESIGNS / "demo-cylindrical.yaml")
+    solid = kind_of(design.cam.type).part(artifacts.analysis).solid
+    shape = read(artifacts.files[f"{design.name}.step"])
+    probes = len(step._probes(solid))
+    projected: list[float] = []
+    project = step._projected
+
+    def counted(*args):  # type: ignore[no-untyped-def]
+        projected.append(project(*args))
+        return projected[-1]
+
+    monkeypatch.setattr(step, "_projected", counted)
+    bounded = step._deviation(shape, solid)
+    few = len(projected)
+    monkeypatch.setattr(step, "PROBE_SLACK_MM", math.inf)
+    projected.clear()
+    every = step._deviation(shape, solid)
+    assert len(projected) == probes > 100 * few
+    assert bounded == every == max(projected) == artifacts.analysis.verification.step.deviation_mm
+    assert 0.0 < bounded <= 0.1 * design.manufacturing.tolerance
+
+
 def test_without_the_extra_asking_for_step_is_one_clear_line(
         tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     import camfab.design.rules as rules

@@ -14,7 +14,7 @@ import pytest
 import trimesh
 
 from camfab.arrays import clusters
-from camfab.export.stl import binary_stl, check_stl, read_stl, stl_bytes
+from camfab.export.stl import binary_stl, check_stl, equal_rows, read_stl, stl_bytes
 
 from .conftest import DESIGNS, EVERY_DESIGN, Built
 
@@ -87,6 +87,30 @@ def test_the_reader_refuses_a_file_of_the_wrong_length() -> None:
         read_stl(data[:-1])
     with pytest.raises(ValueError, match="binary STL"):
         read_stl(data[:40])
+
+
+def test_equal_rows_are_the_groups_numpy_finds() -> None:
+    """The groups of equal rows (the STL's corners merged, its edges paired), against numpy's
+    unique of rows: narrow and wide integers, one to three columns, repeated rows."""
+    def expected(keys: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
+        order = np.argsort(first)
+        rank = np.empty(len(first), dtype=np.intp)
+        rank[order] = np.arange(len(first))
+        return first[order], rank[inverse.ravel()]
+
+    rng = np.random.default_rng(5)
+    cases = []
+    for reach in (3, 1000, 10**12, 2**62):
+        for columns in (1, 2, 3):
+            keys = rng.integers(-reach, reach, size=(500, columns), dtype=np.int64)
+            cases.append(keys[rng.integers(0, 500, size=700)])  # each row some twice
+    cases.append(np.array([[0, 5], [2**61, -(2**61)], [1, 5], [0, 5], [-(2**61), 3], [1, 5]],
+                          dtype=np.int64))
+    for keys in cases:
+        first, group = equal_rows(keys)
+        want_first, want_group = expected(keys)
+        assert np.array_equal(first, want_first) and np.array_equal(group, want_group)
 
 
 def test_clusters_are_the_connected_components() -> None:

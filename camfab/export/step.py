@@ -50,6 +50,14 @@ TIME_STAMP = "2000-01-01T00:00:00"
 FACE_GRID = 5
 #: The relative precision to which the read-back's volume is integrated.
 VOLUME_PRECISION = 1e-6
+#: The points each way of a fitted surface's parameters from the nearest of which a probe's
+#: point on it is first looked for (count): a few per patch of the groove's stations, enough
+#: for Newton's steps to find the point beside the probe.
+SURFACE_GRID = 48
+#: How far (mm) below the largest distance found a probe's bound must fall before it is left
+#: unprojected: far above the rounding of the distances (some 1e-14 mm), far below any
+#: deviation the check reports.
+PROBE_SLACK_MM = 1e-9
 
 
 @dataclass(frozen=True)
@@ -459,14 +467,20 @@ def _probe_distance(faces: list[Any], probes: Array) -> float:
     """The largest distance (mm) of the *probes* (points of the exact surface) from the
     nearest of the fitted *faces*, each projected onto their surfaces; only the probes the
     part keeps are found near a face (a wall's stretch beyond the drum's surface is cut away
-    with the face's), so each probe's distance is the least over the faces."""
+    with the face's), so each probe's distance is the least over the faces.
+
+    OpenCASCADE's projection (its search over the whole surface for the nearest point) is
+    asked only for the probes that can be the farthest: each probe's distance is first bounded
+    above by a point of each face's surface found near it (Newton's steps from the nearest of
+    a grid of the surface's points), and the probes are projected from the highest bound down
+    until no bound left exceeds the largest distance found (by :data:`PROBE_SLACK_MM`). The
+    answer is the projection's, as if every probe were projected."""
     from OCP.Bnd import Bnd_Box
     from OCP.BRep import BRep_Tool
     from OCP.BRepBndLib import BRepBndLib
     from OCP.GeomAPI import GeomAPI_ProjectPointOnSurf
-    from OCP.gp import gp_Pnt
 
-    projections, boxes = [], []
+    projections, boxes, surfaces = [], [], []
     for face in faces:
         box = Bnd_Box()
         BRepBndLib.Add_s(face, box)
@@ -474,19 +488,70 @@ def _probe_distance(faces: list[Any], probes: Array) -> float:
         projection = GeomAPI_ProjectPointOnSurf()  # its search grid made once per face
         projection.Init(surface, *surface.Bounds())
         projections.append(projection)
+        surfaces.append(surface)
         boxes.append(np.array([box.CornerMin().Coord(), box.CornerMax().Coord()]))
+    # the faces within a millimetre of each probe
+    near = np.array([((box[0] - 1.0 <= probes) & (probes <= box[1] + 1.0)).all(axis=1)
+                     for box in boxes]).reshape(len(faces), len(probes))
+    bound = np.full(len(probes), math.inf)
+    for surface, on in zip(surfaces, near, strict=True):
+        rows = np.flatnonzero(on)
+        if rows.size:
+            bound[rows] = np.minimum(bound[rows], _local_distances(surface, probes[rows]))
+
     worst = 0.0
-    for x, y, z in probes:
-        point = gp_Pnt(float(x), float(y), float(z))
-        best = math.inf
-        for projection, box in zip(projections, boxes, strict=True):
-            if not ((box[0] - 1.0 <= (x, y, z)).all() and ((x, y, z) <= box[1] + 1.0).all()):
-                continue  # a face a millimetre or more away
-            projection.Perform(point)
-            if projection.NbPoints():
-                best = min(best, float(projection.LowerDistance()))
-        worst = max(worst, best)
+    for index in np.argsort(-bound, kind="stable"):
+        if bound[index] + PROBE_SLACK_MM <= worst:
+            break  # no probe left can lie farther
+        worst = max(worst, _projected(projections, near[:, index], probes[index]))
     return worst
+
+
+def _projected(projections: list[Any], near: Array, probe: Array) -> float:
+    """The least distance (mm) of *probe* from the faces *near* it (a mask), by their
+    surfaces' *projections* (inf where none finds it)."""
+    from OCP.gp import gp_Pnt
+
+    x, y, z = probe
+    point = gp_Pnt(float(x), float(y), float(z))
+    best = math.inf
+    for projection, on in zip(projections, near, strict=True):
+        if not on:
+            continue  # a face a millimetre or more away
+        projection.Perform(point)
+        if projection.NbPoints():
+            best = min(best, float(projection.LowerDistance()))
+    return best
+
+
+def _local_distances(surface: Any, points: Array) -> Array:
+    """The distance (mm) of each of *points* from a point of the (B-spline) *surface* within
+    its bounds found near it: Newton's steps from the nearest of :data:`SURFACE_GRID` ×
+    :data:`SURFACE_GRID` points of the surface (inf where they lead nowhere, or outside it).
+    Each is at least the point's least distance from the surface."""
+    from OCP.Extrema import Extrema_GenLocateExtPS
+    from OCP.GeomAdaptor import GeomAdaptor_Surface
+    from OCP.gp import gp_Pnt
+
+    u0, u1, v0, v1 = surface.Bounds()
+    us, vs = np.linspace(u0, u1, SURFACE_GRID), np.linspace(v0, v1, SURFACE_GRID)
+    grid = np.array([surface.Value(float(u), float(v)).Coord() for u in us for v in vs])
+    square = np.einsum("ij,ij->i", grid, grid)
+    # the nearest grid point of each: |p − g|² = |p|² − 2 p·g + |g|² (only the order counts)
+    nearest = np.argmin(square[None, :] - 2.0 * (points @ grid.T), axis=1)
+    start_u, start_v = us[nearest // SURFACE_GRID], vs[nearest % SURFACE_GRID]
+    adaptor = GeomAdaptor_Surface(surface)  # held: the search keeps a reference to it
+    locate = Extrema_GenLocateExtPS(adaptor)
+    found = np.full(len(points), math.inf)
+    for k, (x, y, z) in enumerate(points):
+        locate.Perform(gp_Pnt(float(x), float(y), float(z)), float(start_u[k]),
+                       float(start_v[k]))
+        if not locate.IsDone():
+            continue
+        u, v = locate.Point().Parameter()
+        if u0 <= u <= u1 and v0 <= v <= v1:
+            found[k] = math.sqrt(locate.SquareDistance())
+    return found
 
 
 def _planes(solid: Solid) -> set[float]:
