@@ -56,6 +56,7 @@ def test_the_roller_run_measuring_the_near_edges_first_is_the_run_over_them_all(
     infinite), as measuring them all after the near ones at every pose (minus infinity: a
     side never near enough), and as a search within a thousandth of the tolerance (some poses
     measure all, some not), whatever the size of the blocks of poses that share a pass."""
+    from camfab.arrays import edge_groups
     from camfab.geometry import globoid_run
     from camfab.geometry.globoid_cam import VERIFY_STEP
     from camfab.motion.program import cycle_angles
@@ -65,7 +66,8 @@ def test_the_roller_run_measuring_the_near_edges_first_is_the_run_over_them_all(
     tolerance = analysis.design.manufacturing.tolerance
     mesh = trimesh.load(trimesh.util.wrap_as_stream(stl), file_type="stl")
     vertices, faces = np.asarray(mesh.vertices), np.asarray(mesh.faces)
-    edges = globoid_run.mesh_edges(vertices, faces, globoid_run.near_roller(blank, vertices))
+    pairs = edge_groups(faces, len(vertices))[0]
+    edges = globoid_run.mesh_edges(vertices, pairs, globoid_run.near_roller(blank, vertices))
     theta = cycle_angles(VERIFY_STEP)[::3]
     motion = analysis.program.evaluate(theta)
     runs, fell_back = [], []

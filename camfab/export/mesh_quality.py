@@ -127,7 +127,7 @@ def _repaired(solid: Any) -> tuple[Any, int]:
     would be written with (0 when none is left even at the repair's margin). Should a round
     leave the solid broken, or the flaws outlast :data:`_MAX_ROUNDS`, the good solid with the
     fewest flaws as written is returned (the last of those)."""
-    seen: list[tuple[int, int, Any]] = []  # (the flaws it would be written with, round, solid)
+    seen: list[tuple[int, Any]] = []  # (round, solid): the rounds that left flaws
     for turn in range(_MAX_ROUNDS):
         vertices, faces = _mesh(solid)
         lengths = edge_lengths(vertices, faces)
@@ -136,7 +136,7 @@ def _repaired(solid: Any) -> tuple[Any, int]:
         thin = (altitudes(vertices, faces, lengths) < limit) & ~short.any(axis=1)
         if not short.any() and not thin.any():
             return solid, 0
-        seen.append((_written_flaws(vertices, faces), turn, solid))
+        seen.append((turn, solid))
         # a thin facet's corner opposite its longest edge, onto that edge (once per corner)
         rows = np.flatnonzero(thin)
         longest = np.argmax(lengths[rows], axis=1)
@@ -154,9 +154,11 @@ def _repaired(solid: Any) -> tuple[Any, int]:
             break  # as it was: the STL's read-back check reports what is left
         solid = repaired
     else:
-        seen.append((_written_flaws(*_mesh(solid)), _MAX_ROUNDS, solid))
-    best = min(seen, key=lambda entry: (entry[0], -entry[1]))
-    chosen = best if best[0] < seen[-1][0] else seen[-1]
+        seen.append((_MAX_ROUNDS, solid))
+    # the flaws each would be written with, counted only now that they are needed
+    counted = [(_written_flaws(*_mesh(made)), turn, made) for turn, made in seen]
+    best = min(counted, key=lambda entry: (entry[0], -entry[1]))
+    chosen = best if best[0] < counted[-1][0] else counted[-1]
     return chosen[2], chosen[0]
 
 

@@ -19,7 +19,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from camfab.analysis.verification import StlCheck
-from camfab.arrays import Array, Index, Mask
+from camfab.arrays import Array, Index, Mask, edge_groups
 from camfab.curves.sampling import arc_points
 from camfab.export.part import (
     Cylinder,
@@ -251,13 +251,18 @@ class StlMesh:
         """(F, 3) cross products of each facet's first two edges (mm²)."""
         return _crosses(self.triangles)
 
+    @cached_property
+    def edge_groups(self) -> tuple[Index, Index, Index]:
+        """Each edge once (E, 2), each facet side's edge, and each edge's count of sides
+        (:func:`camfab.arrays.edge_groups`)."""
+        return edge_groups(self.faces, len(self.vertices))
+
     def edges(self) -> tuple[bool, bool]:
         """Whether every edge is shared by exactly two facets (the surface is closed), and
         whether every edge shared by two runs one way in one and the other way in the other
         (the facets are wound alike)."""
         edges = self.faces[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2)
-        _, inverse = equal_rows(np.sort(edges, axis=1).astype(np.int64))
-        counts = np.bincount(inverse)
+        _, inverse, counts = self.edge_groups
         closed = bool((counts == 2).all())
         paired = np.flatnonzero(counts[inverse] == 2)
         pairs = paired[np.argsort(inverse[paired], kind="stable")].reshape(-1, 2)

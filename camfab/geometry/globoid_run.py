@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from camfab.arrays import Array
+from camfab.arrays import Array, Index
 
 if TYPE_CHECKING:
     from camfab.geometry.globoid_cam import GloboidCam
@@ -188,7 +188,7 @@ class _Near:
             kept.append(np.flatnonzero(keep) + run.start)
         pool = np.concatenate(kept)
         # each pose of the block: its own window, and its own line
-        centre = self.centre[pool]
+        centre = np.take(self.centre, pool, axis=0)
         products = centre @ np.concatenate((poses.axis[block], poses.pivot[block])).T
         pivot_along = np.einsum("ij,ij->i", poses.pivot[block], poses.axis[block])
         pivot_square = np.einsum("ij,ij->i", poses.pivot[block], poses.pivot[block])
@@ -203,8 +203,8 @@ class _Near:
 
     def measure(self, poses: _Poses, k: int, picked: Array) -> tuple[float, float, float] | None:
         """:func:`_nearest` of the edges *picked* at pose *k*."""
-        return _nearest(self.start[picked] - poses.pivot[k], self.step[picked], poses, int(k),
-                        self.low, self.high)
+        return _nearest(np.take(self.start, picked, axis=0) - poses.pivot[k],
+                        np.take(self.step, picked, axis=0), poses, int(k), self.low, self.high)
 
 
 def _nearest(a: Array, e: Array, poses: _Poses, k: int, low: float,
@@ -225,7 +225,9 @@ def _nearest(a: Array, e: Array, poses: _Poses, k: int, low: float,
     beside = np.flatnonzero((first <= last) & (~flat | ((a_along >= low) & (a_along <= high))))
     if beside.size == 0:
         return None
-    a, e, first, last = a[beside], e[beside], first[beside], last[beside]
+    # (numpy's take: a copy of the rows, some three times quicker than indexing for them)
+    a, e = np.take(a, beside, axis=0), np.take(e, beside, axis=0)
+    first, last = first[beside], last[beside]
     # across the axis: a⊥ + s·e⊥, nearest at s = −a⊥·e⊥/|e⊥|², kept on that stretch (a row's
     # product with the axis is the same whichever rows are with it)
     a_across = a - a_along[beside][:, None] * axis
@@ -313,15 +315,9 @@ def near_roller(blank: GloboidCam, points: Array) -> Array:
     return inside
 
 
-def mesh_edges(vertices: Array, faces: Array, keep: Array | None = None) -> Array:
-    """The mesh's edges, each once, as (E, 2, 3) end points (mm): of those with an end among
-    the vertices *keep* (a mask; all by default)."""
-    pairs = np.sort(faces[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1).astype(np.int64)
-    # each pair as one number, in the pairs' order: numpy's unique of numbers, not of rows
-    # (some five times quicker), gives the same edges in the same order
-    count = np.int64(max(len(vertices), 1))
-    keys = np.unique(pairs[:, 0] * count + pairs[:, 1])
-    edges = np.column_stack((keys // count, keys % count))
+def mesh_edges(vertices: Array, pairs: Index, keep: Array | None = None) -> Array:
+    """The mesh's edges *pairs* (each once, (E, 2) vertex indices) as (E, 2, 3) end points
+    (mm): of those with an end among the vertices *keep* (a mask; all by default)."""
     if keep is not None:
-        edges = edges[keep[edges[:, 0]] | keep[edges[:, 1]]]
-    return vertices[edges]
+        pairs = pairs[keep[pairs[:, 0]] | keep[pairs[:, 1]]]
+    return vertices[pairs]

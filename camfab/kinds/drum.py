@@ -361,7 +361,8 @@ def drum_verify(analysis: Analysis, part: Part, files: PartFiles) -> Verificatio
     d, program = dense.drum, analysis.program
     tolerance = SAMPLING_SHARE * design.manufacturing.tolerance
     folded = _folded(analysis)
-    vertices, faces, stl_check = groove_mesh(part, files, design.manufacturing.tolerance, folded)
+    vertices, faces, stl_check, _ = groove_mesh(part, files, design.manufacturing.tolerance,
+                                                folded)
     source = ("the exact walls (the groove folds: no STL)" if stl_check is None else
               f"the roller run through the groove of {design.name}.stl read back (between its "
               "wall rows)")

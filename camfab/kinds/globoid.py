@@ -540,11 +540,11 @@ def globoid_verify(analysis: Analysis, part: Part, files: PartFiles) -> Verifica
     blank, program = dense.blank, analysis.program
     tolerance = design.manufacturing.tolerance
     folded = _undercut(analysis)
-    vertices, faces, stl_check = groove_mesh(part, files, tolerance, folded)
+    vertices, _, stl_check, pairs = groove_mesh(part, files, tolerance, folded)
     source = ("the groove's tube as computed (a flank folds: no STL)" if stl_check is None
               else f"the roller put in the groove of {design.name}.stl read back")
     theta = cycle_angles(VERIFY_STEP * (4 if folded else 1))  # (a fold: what it would do)
-    edges = mesh_edges(vertices, faces, near_roller(blank, vertices))
+    edges = mesh_edges(vertices, pairs, near_roller(blank, vertices))
     run = roller_run(blank, edges, theta, program.evaluate(theta), tolerance)
     # each flank's distance from the roller's wall radius: off it (> 0) or into it (< 0)
     error = np.maximum(np.abs(run.gap_plus_mm), np.abs(run.gap_minus_mm))

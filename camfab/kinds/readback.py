@@ -23,7 +23,7 @@ from camfab.geometry.disc_geometry import LiftCheck
 if TYPE_CHECKING:
     from camfab.analysis.record import Analysis
     from camfab.analysis.verification import StlCheck
-    from camfab.arrays import Array
+    from camfab.arrays import Array, Index
     from camfab.curves.profile import Profile
     from camfab.design import Design
     from camfab.export.part import Part
@@ -70,19 +70,23 @@ def verify_plate(analysis: Analysis, contours: Plate,
 
 
 def groove_mesh(part: Part, files: PartFiles, tolerance: float,
-                folded: bool) -> tuple[Array, Array, StlCheck | None]:
+                folded: bool) -> tuple[Array, Index, StlCheck | None, Index]:
     """The mesh a drum's or a globoid's roller is run through (mm): the STL read back,
     checked closed, outward and of the solid's volume (within *tolerance*, mm, over its
     surface), or, when the groove folds (or no STL was made), the tube as computed, unchecked:
-    (V, 3) vertices, (F, 3) faces and the STL's check."""
+    (V, 3) vertices, (F, 3) faces, the STL's check, and the mesh's edges, each once (E, 2)."""
+    from camfab.arrays import edge_groups
+
     if folded or files.stl is None:
-        return part.made.vertices, part.made.faces, None
+        made = part.made
+        return made.vertices, made.faces, None, edge_groups(made.faces, len(made.vertices))[0]
     from camfab.export.stl import check_stl, read_stl
 
     mesh = read_stl(files.stl.data)
     check = check_stl(files.stl.data, files.stl.volume_mm3, tolerance * files.stl.area_mm2,
                       mesh)
-    return np.asarray(mesh.vertices, dtype=np.float64), np.asarray(mesh.faces), check
+    return (np.asarray(mesh.vertices, dtype=np.float64), np.asarray(mesh.faces), check,
+            mesh.edge_groups[0])
 
 
 def expected_volume(analysis: Analysis, plate: Plate) -> tuple[float, float]:
