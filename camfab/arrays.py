@@ -55,6 +55,13 @@ def clusters(pairs: Index, count: int) -> tuple[int, Index]:
     return len(roots), numbered.ravel()
 
 
+def norms(vectors: Array) -> Array:
+    """The lengths of 3-vectors along the last axis: their squares summed in the order numpy's
+    ``norm`` sums them (the same numbers, bit for bit), some four times quicker."""
+    square = vectors * vectors
+    return np.sqrt((square[..., 0] + square[..., 1]) + square[..., 2])
+
+
 def edge_groups(faces: Index, count: int) -> tuple[Index, Index, Index]:
     """The edges of a mesh's (F, 3) *faces* (on *count* vertices): each edge once, as (E, 2)
     vertex indices (the lower first, sorted), the edge of each facet side in turn (3F,: side

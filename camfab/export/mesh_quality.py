@@ -18,7 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from camfab.arrays import Array, Index, clusters
+from camfab.arrays import Array, Index, clusters, norms
 
 #: No edge is shorter than this (mm): FreeCAD's mesh module calls edges shorter than 1 µm
 #: (``MESH_MIN_EDGE_LEN``) too short; the edges a tolerance-sampled cam needs are far longer.
@@ -69,17 +69,16 @@ def _float32_spacing(vertices: Array) -> float:
 
 def edge_lengths(vertices: Array, faces: Index) -> Array:
     """(F, 3) lengths (mm) of each facet's edges: edge k runs from corner k to corner k + 1."""
-    corners = vertices[faces]
-    return np.linalg.norm(np.roll(corners, -1, axis=1) - corners, axis=2)
+    corners = np.take(vertices, faces, axis=0)  # (numpy's take: quicker than indexing)
+    return norms(np.roll(corners, -1, axis=1) - corners)
 
 
 def altitudes(vertices: Array, faces: Index, lengths: Array | None = None) -> Array:
     """(F,) smallest altitude (mm) of each facet: twice its area over its longest edge."""
-    corners = vertices[faces]
+    corners = np.take(vertices, faces, axis=0)
     if lengths is None:
         lengths = edge_lengths(vertices, faces)
-    area2 = np.linalg.norm(np.cross(corners[:, 1] - corners[:, 0],
-                                    corners[:, 2] - corners[:, 0]), axis=1)
+    area2 = norms(np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]))
     return area2 / np.maximum(lengths.max(axis=1), 1e-300)
 
 

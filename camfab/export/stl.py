@@ -19,7 +19,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from camfab.analysis.verification import StlCheck
-from camfab.arrays import Array, Index, Mask, edge_groups
+from camfab.arrays import Array, Index, Mask, edge_groups, norms
 from camfab.curves.sampling import arc_points
 from camfab.export.part import (
     Cylinder,
@@ -108,7 +108,7 @@ def _crosses(triangles: Array) -> Array:
 
 def _areas(crosses: Array) -> Array:
     """(F,) facet areas (mm²) from their edges' cross products."""
-    return np.sqrt((crosses**2).sum(axis=1)) / 2.0
+    return norms(crosses) / 2.0
 
 
 def _unit_normals(crosses: Array) -> Array:
@@ -125,7 +125,7 @@ def _has_area(triangles: Array, crosses: Array) -> Mask:
     areas = _areas(crosses)
     ok = np.ones(len(triangles), dtype=bool)
     for k in (1, 2):
-        length = ((triangles[:, k] - triangles[:, 0]) ** 2).sum(axis=1) ** 0.5
+        length = norms(triangles[:, k] - triangles[:, 0])
         long_enough = length > 10.0**-MERGE_DIGITS
         height = np.zeros(len(triangles))
         height[long_enough] = areas[long_enough] * 2 / length[long_enough]
@@ -154,7 +154,7 @@ def binary_stl(solid: Any) -> bytes:
     mesh = without_slivers(solid).to_mesh()
     vertices = np.asarray(mesh.vert_properties)[:, :3].astype(np.float32).astype(np.float64)
     vertices, faces = merged(vertices, np.asarray(mesh.tri_verts, dtype=np.int64))
-    triangles = vertices[faces]
+    triangles = np.take(vertices, faces, axis=0)
     crosses = _crosses(triangles)
     kept = _has_area(triangles, crosses)
     return stl_bytes(triangles[kept], crosses[kept])
@@ -244,7 +244,7 @@ class StlMesh:
     @cached_property
     def triangles(self) -> Array:
         """(F, 3, 3) corners of each facet (mm)."""
-        return self.vertices[self.faces]
+        return np.take(self.vertices, self.faces, axis=0)  # (quicker than indexing)
 
     @cached_property
     def crosses(self) -> Array:

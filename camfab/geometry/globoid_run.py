@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from camfab.arrays import Array, Index
+from camfab.arrays import Array, Index, norms
 
 if TYPE_CHECKING:
     from camfab.geometry.globoid_cam import GloboidCam
@@ -237,7 +237,7 @@ def _nearest(a: Array, e: Array, poses: _Poses, k: int, low: float,
                                                                     e_across)
     s = np.minimum(np.maximum(np.where(np.isnan(s), 0.0, s), first), last)
     radial = a_across + s[:, None] * e_across
-    off = np.sqrt(np.add.reduce(radial * radial, axis=1))
+    off = norms(radial)
     side = radial @ n
     plus, minus = off[side > 0], off[side < 0]
     return (float(off.min()), float(plus.min()) if plus.size else math.inf,
