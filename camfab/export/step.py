@@ -474,7 +474,8 @@ def _probe_distance(faces: list[Any], probes: Array) -> float:
     above by a point of each face's surface found near it (Newton's steps from the nearest of
     a grid of the surface's points), and the probes are projected from the highest bound down
     until no bound left exceeds the largest distance found (by :data:`PROBE_SLACK_MM`). The
-    answer is the projection's, as if every probe were projected."""
+    answer is the projection's, as if every probe were projected: the projection finds the
+    surface's nearest point, nearer than any other of its points but by its rounding."""
     from OCP.Bnd import Bnd_Box
     from OCP.BRep import BRep_Tool
     from OCP.BRepBndLib import BRepBndLib
@@ -537,8 +538,11 @@ def _local_distances(surface: Any, points: Array) -> Array:
     us, vs = np.linspace(u0, u1, SURFACE_GRID), np.linspace(v0, v1, SURFACE_GRID)
     grid = np.array([surface.Value(float(u), float(v)).Coord() for u in us for v in vs])
     square = np.einsum("ij,ij->i", grid, grid)
-    # the nearest grid point of each: |p − g|² = |p|² − 2 p·g + |g|² (only the order counts)
-    nearest = np.argmin(square[None, :] - 2.0 * (points @ grid.T), axis=1)
+    # the nearest grid point of each: |p − g|² = |p|² − 2 p·g + |g|² (only the order counts),
+    # a thousand points at a time (a few megabytes)
+    chunks = np.array_split(points, max(1, -(-len(points) // 1024)))
+    nearest = np.concatenate([np.argmin(square[None, :] - 2.0 * (chunk @ grid.T), axis=1)
+                              for chunk in chunks])
     start_u, start_v = us[nearest // SURFACE_GRID], vs[nearest % SURFACE_GRID]
     adaptor = GeomAdaptor_Surface(surface)  # held: the search keeps a reference to it
     locate = Extrema_GenLocateExtPS(adaptor)
