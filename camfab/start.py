@@ -17,9 +17,9 @@ def main() -> None:
     """Run the command line as the ``camfab`` program, and exit with its status."""
     from camfab.stopping import RECEIVED, catch, hold_to_the_end, stop_line
 
-    catch()
     code: int | None = None
     try:
+        catch()  # (a stop while its handlers go in raises here, already noted)
         from camfab.cli import main as command
 
         code = command.main(prog_name="camfab", standalone_mode=False, process=True)
