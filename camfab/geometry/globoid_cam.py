@@ -13,6 +13,7 @@ groove runs from it ``depth`` inward to its floor.
 from __future__ import annotations
 
 import math
+import weakref
 from dataclasses import dataclass
 from functools import lru_cache
 from typing import TYPE_CHECKING
@@ -380,12 +381,35 @@ def _facets(stations: int, rows: int, across: int) -> int:
     return 2 * stations * (2 * rows + 2 * (across - 1))
 
 
+#: The plans made whole, for each motion program (held weakly: kept while the design is) by
+#: blank, tolerance and twist: the design's rules plan the tube to count its facets as the file
+#: loads, and its part plans the same tube again.
+_PLANS: weakref.WeakKeyDictionary[MotionProgram, dict[tuple[GloboidCam, float, bool],
+                                                      TubePlan]] = weakref.WeakKeyDictionary()
+
+
 def tube_plan(blank: GloboidCam, program: MotionProgram, tolerance: float, twist: bool = True,
               most: int | None = None) -> TubePlan:
     """The stations, rows and steps across of :func:`tube` at *tolerance* (mm) (see there).
     With *most*, the plan is given up (its stations None) once it would make more facets than
     that: its facets then count what it had reached, more than *most*, so that planning a
-    tube costs no more than a tube of *most* facets would."""
+    tube costs no more than a tube of *most* facets would. (A plan made whole is what any
+    *most* it fits gives: it is kept for the program, and given again.)"""
+    plans = _PLANS.setdefault(program, {})
+    known = plans.get((blank, tolerance, twist))
+    if known is not None and (most is None or known.facets <= most):
+        return known
+    plan = _planned(blank, program, tolerance, twist, most)
+    if plan.stations is not None:
+        plan.stations.setflags(write=False)  # (given again: no one may change them)
+        plan.rows.setflags(write=False)
+        plans[(blank, tolerance, twist)] = plan
+    return plan
+
+
+def _planned(blank: GloboidCam, program: MotionProgram, tolerance: float, twist: bool,
+             most: int | None) -> TubePlan:
+    """:func:`tube_plan`, planned."""
     g = blank.follower
     rows = tube_rows(blank, program, tolerance)
     across = max(2, math.ceil(2 * g.radius / max(math.sqrt(8.0 * tolerance * g.radius), 1e-6)))
