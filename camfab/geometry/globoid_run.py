@@ -303,8 +303,7 @@ def _inside(index: Array, polar: Array, at: float, half: float) -> Array:
 def near_roller(blank: GloboidCam, points: Array) -> Array:
     """Which of *points* (mm, on the cam) the roller can come near at some pose: within its
     radius (and 1 mm) of the stretch of the pivot's circles its contact line sweeps, judged in
-    each point's plane through the cam axis (its distance from the pivot there, and its angle
-    about the pivot within the arm's swing)."""
+    each point's plane through the cam axis by its distance from the pivot there."""
     g = blank.follower
     ends = blank.contact(2)
     r = np.hypot(points[:, 0], points[:, 1])
