@@ -129,8 +129,13 @@ class Globoid:
 
 def to_cam(points: Array, turned: Array) -> Array:
     """Frame *points* (..., 3) as seen on a cam turned by *turned* (rad) about Z: Rot_z(−turned)."""
-    c, s = np.cos(turned), np.sin(turned)
-    x, y, z = points[..., 0], points[..., 1], points[..., 2]
+    return turned_back(points[..., 0], points[..., 1], points[..., 2], np.cos(turned),
+                       np.sin(turned))
+
+
+def turned_back(x: Array, y: Array, z: Array, c: Array, s: Array) -> Array:
+    """The points (*x*, *y*, *z*) (mm) turned back about Z by the angle whose cosine and sine
+    are *c* and *s* (:func:`to_cam`, its sine and cosine given), stacked (..., 3)."""
     return np.stack((c * x + s * y, -s * x + c * y, z), axis=-1)
 
 

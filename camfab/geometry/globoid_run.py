@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from camfab.arrays import Array, Index, norms
+from camfab.geometry.globoid import turned_back
 
 if TYPE_CHECKING:
     from camfab.geometry.globoid_cam import GloboidCam
@@ -73,18 +74,15 @@ def _poses(blank: GloboidCam, theta: Array, motion: Array, middle: float) -> _Po
     c, s = (np.array([f(x) for x in turned]) for f in (np.cos, np.sin))
     cos_psi, sin_psi = (np.array([f(x) for x in psi]) for f in (np.cos, np.sin))
 
-    def cam(x: Array, y: Array, z: Array) -> Array:  # to_cam's rows, as it forms them
-        return np.stack((c * x + s * y, -s * x + c * y, z), axis=-1)
-
     zero = np.zeros_like(theta)
-    axis = cam(-np.array([math.cos(x) for x in psi]), zero,
-               np.array([math.sin(x) for x in psi]))
-    pivot = cam(np.full_like(theta, g.centre), zero, zero)
+    axis = turned_back(-np.array([math.cos(x) for x in psi]), zero,
+                       np.array([math.sin(x) for x in psi]), c, s)
+    pivot = turned_back(np.full_like(theta, g.centre), zero, zero, c, s)
     d = g.centre - middle * cos_psi
-    mid = cam(d, zero, middle * sin_psi)
+    mid = turned_back(d, zero, middle * sin_psi, c, s)
     across = np.array([np.hypot(x, y) for x, y in zip(d, dpsi * middle, strict=True)])
-    normal = cam(g.sigma * d * sin_psi / across, dpsi * middle / across,
-                 g.sigma * d * cos_psi / across)
+    normal = turned_back(g.sigma * d * sin_psi / across, dpsi * middle / across,
+                         g.sigma * d * cos_psi / across, c, s)
     polar = np.array([math.atan2(float(y), float(x)) for x, y in mid[:, :2]])
     return _Poses(axis, pivot, mid, normal, polar)
 
