@@ -8,6 +8,7 @@ import json
 import math
 import os
 import shutil
+import time
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
@@ -53,6 +54,18 @@ def chromium(*flags: str) -> Any:
     options.binary_location = tool("chromium", "chromium")
     return webdriver.Chrome(service=Service(tool("chromedriver", "chromium-driver")),
                             options=options)
+
+
+def page_wait(browser: Any, script: str, *args: Any, seconds: float = 120.0) -> Any:
+    """The first true value *script* (run in the page with *args*) returns, asked every 50 ms
+    (a failure after *seconds*)."""
+    end = time.monotonic() + seconds
+    while time.monotonic() < end:
+        value = browser.execute_script(script, *args)
+        if value:
+            return value
+        time.sleep(0.05)
+    raise AssertionError(f"the page never came to: {script}")
 
 
 def need_step_extra() -> None:

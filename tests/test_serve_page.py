@@ -12,14 +12,13 @@ import shutil
 import signal
 import subprocess
 import sys
-import time
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
 import pytest
 
-from .conftest import DESIGNS, chromium
+from .conftest import DESIGNS, chromium, page_wait
 
 pytest.importorskip("starlette")
 pytest.importorskip("uvicorn")
@@ -49,22 +48,12 @@ def studio(tmp_path_factory: pytest.TempPathFactory, browser: Any) -> Iterator[P
     url = re.search(r"http://\S+", server.stdout.readline())
     assert url, server.stderr.read()
     browser.get(url.group(0))
-    wait(browser, "return document.body.dataset.ready === 'yes' && "
-                  "+document.body.dataset.verified > 0")
+    page_wait(browser, "return document.body.dataset.ready === 'yes' && "
+                       "+document.body.dataset.verified > 0")
     yield file
     server.send_signal(signal.SIGINT)
     _, err = server.communicate(timeout=BACKSTOP)
     assert server.returncode == 130 and err == "camfab: interrupted\n"
-
-
-def wait(browser: Any, script: str, *args: Any) -> Any:
-    end = time.monotonic() + BACKSTOP
-    while time.monotonic() < end:
-        value = browser.execute_script(script, *args)
-        if value:
-            return value
-        time.sleep(0.05)
-    raise AssertionError(f"the page never came to: {script}")
 
 
 def front(browser: Any, script: str) -> Any:
@@ -76,8 +65,8 @@ def front(browser: Any, script: str) -> Any:
 
 def settled(browser: Any) -> int:
     """Wait until the page has drawn its newest version; that version."""
-    return int(wait(browser, "return document.body.dataset.busy !== 'yes' && "
-                             "document.body.dataset.version"))
+    return int(page_wait(browser, "return document.body.dataset.busy !== 'yes' && "
+                                  "document.body.dataset.version"))
 
 
 def slide(browser: Any, path: str, value: float) -> None:
@@ -88,8 +77,8 @@ def slide(browser: Any, path: str, value: float) -> None:
         "const r = document.querySelector('input[type=range][data-path=\"' + arguments[0] + "
         "'\"]'); r.value = arguments[1]; r.dispatchEvent(new Event('input'));", path,
         str(value))
-    wait(browser, "return +document.body.dataset.version > arguments[0] && "
-                  "document.body.dataset.busy === 'no'", shown)
+    page_wait(browser, "return +document.body.dataset.version > arguments[0] && "
+                       "document.body.dataset.busy === 'no'", shown)
 
 
 def pressure_angle(browser: Any) -> float:
@@ -131,7 +120,7 @@ def test_save_writes_the_edit_with_every_comment_kept(browser: Any, studio: Path
     before = studio.read_text()
     slide(browser, "cam.base_radius", 30)
     browser.find_element("id", "save").click()
-    wait(browser, "return document.getElementById('notice').textContent.startsWith('saved')")
+    page_wait(browser, "return document.getElementById('notice').textContent.startsWith('saved')")
     after = studio.read_text()
     assert after == before.replace("base_radius: 20          #", "base_radius: 30          #")
     assert after != before
@@ -140,11 +129,11 @@ def test_save_writes_the_edit_with_every_comment_kept(browser: Any, studio: Path
 def test_the_page_follows_the_file_saved_in_another_editor(browser: Any, studio: Path) -> None:
     shown = settled(browser)
     studio.write_text(studio.read_text().replace("base_radius: 30", "base_radius: 44"))
-    wait(browser, "return +document.body.dataset.version > arguments[0] && "
-                  "document.querySelector('input[type=number][data-path=\"cam.base_radius\"]')"
-                  ".value === '44'", shown)
-    wait(browser, "return +document.body.dataset.version === "
-                  "+document.body.dataset.verified")
+    page_wait(browser, "return +document.body.dataset.version > arguments[0] && "
+                       "document.querySelector('input[type=number][data-path=\"cam.base_radius\"]')"
+                       ".value === '44'", shown)
+    page_wait(browser, "return +document.body.dataset.version === "
+                       "+document.body.dataset.verified")
     assert pressure_angle(browser) == pytest.approx(checked(studio, studio.read_text()),
                                                     abs=0.01)
 
@@ -154,48 +143,48 @@ def test_a_design_that_does_not_load_shows_its_line_over_the_last_picture(
     good = studio.read_text()
     angle = pressure_angle(browser)
     studio.write_text(good.replace("roller_radius: 7", "roller_radius: -7"))
-    line = wait(browser, "const e = document.getElementById('error');"
-                         "return !e.hidden && e.textContent")
+    line = page_wait(browser, "const e = document.getElementById('error');"
+                              "return !e.hidden && e.textContent")
     number = next(i for i, text in enumerate(good.splitlines(), 1) if "roller_radius" in text)
     assert line.startswith(f"design.yaml:{number}: follower.roller_radius: "), line
     assert pressure_angle(browser) == angle  # the last good picture stays
     studio.write_text(good)
-    wait(browser, "return document.getElementById('error').hidden")
+    page_wait(browser, "return document.getElementById('error').hidden")
 
 
 def test_size_offers_camfab_size_s_answer_and_build_lists_its_files(browser: Any,
                                                                    studio: Path) -> None:
     browser.find_element("id", "size").click()
-    shown = wait(browser, "const b = document.getElementById('apply-size');"
-                          "return b && document.getElementById('notice').textContent")
+    shown = page_wait(browser, "const b = document.getElementById('apply-size');"
+                               "return b && document.getElementById('notice').textContent")
     size = subprocess.run([sys.executable, "-m", "camfab", "size", studio.name],
                           cwd=studio.parent, capture_output=True, text=True, timeout=BACKSTOP)
     assert size.stdout.splitlines()[0] in shown
     least = float(re.search(r"least base radius ([0-9.]+) mm", size.stdout).group(1))
     version = settled(browser)
     browser.find_element("id", "apply-size").click()
-    wait(browser, "return +document.body.dataset.version > arguments[0] && "
-                  "document.body.dataset.busy === 'no'", version)
+    page_wait(browser, "return +document.body.dataset.version > arguments[0] && "
+                       "document.body.dataset.busy === 'no'", version)
     value = browser.execute_script(
         "return +document.querySelector('input[type=number][data-path=\"cam.base_radius\"]')"
         ".value")
     assert value == pytest.approx(least)
     browser.find_element("id", "build").click()
-    files = wait(browser, "const items = document.querySelectorAll('#files li');"
-                          "return items.length && Array.from(items, i => i.textContent)")
+    files = page_wait(browser, "const items = document.querySelectorAll('#files li');"
+                               "return items.length && Array.from(items, i => i.textContent)")
     folder = studio.parent / "exports" / NAME
     assert sorted(files) == sorted(p.name for p in folder.iterdir())
     assert f"{NAME}.stl" in files
 
 
 def test_the_3d_view_draws_the_part_and_no_script_fails(browser: Any, studio: Path) -> None:
-    view = wait(browser, "const v = document.getElementById('view3d');"
-                         "return v.dataset.ready === 'yes' && v")
+    view = page_wait(browser, "const v = document.getElementById('view3d');"
+                              "return v.dataset.ready === 'yes' && v")
     assert view.find_elements("css selector", "canvas") or "WebGL" in view.text
     before = browser.execute_script("return document.getElementById('view3d').dataset.frame")
     front(browser, "const s = doc.getElementById('angle'); s.value = '90';"
                    "s.dispatchEvent(new Event('input'));")
-    wait(browser, "return document.getElementById('view3d').dataset.frame === '90'")
+    page_wait(browser, "return document.getElementById('view3d').dataset.frame === '90'")
     assert before != "90"
     assert browser.execute_script("return window.camfabErrors") == 0
     assert front(browser, "return doc.body.dataset.errors") == "0"

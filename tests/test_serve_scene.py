@@ -29,7 +29,7 @@ from camfab.kinds import kind_of
 from camfab.pipeline import analyse, load_design, render, verify_exports
 from camfab.serve.scene import scene_json
 
-from .conftest import DESIGNS, chromium
+from .conftest import DESIGNS, chromium, page_wait
 
 trimesh = pytest.importorskip("trimesh")
 
@@ -272,16 +272,6 @@ def _browser(flags: tuple[str, ...]) -> Any:
     return chromium("--window-size=800,600", *flags)
 
 
-def _wait(browser: Any, script: str, seconds: float = 30.0) -> Any:
-    end = time.monotonic() + seconds
-    while time.monotonic() < end:
-        value = browser.execute_script(script)
-        if value:
-            return value
-        time.sleep(0.1)
-    raise AssertionError(f"timed out waiting for: {script}")
-
-
 #: The share of the view's pixels not of its background (its corner's colour), and a digest of
 #: the picture.
 DRAWN = """
@@ -312,7 +302,8 @@ def test_view_in_chromium(served: str, flags: tuple[str, ...]) -> None:
     browser = _browser(flags)
     try:
         browser.get(served)
-        _wait(browser, "return document.getElementById('view').dataset.ready === 'yes'")
+        page_wait(browser, "return document.getElementById('view').dataset.ready === 'yes'",
+                  seconds=30.0)
         webgl = browser.execute_script(
             "return !!document.querySelector('#view canvas')")
         pictures = []
