@@ -34,10 +34,9 @@ import statistics
 import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
 
-from timing import ROOT, compile_package, wall
+from timing import ROOT, compile_package, wall_in
 
 FLOOR = "import numpy, ezdxf, manifold3d"
 #: Every library a disc build imports (``sys.modules`` after ``camfab build``, less the standard
@@ -76,17 +75,6 @@ def _imports_of(design: Path) -> str:
             "import atexit, gc\natexit.register(gc.freeze)\n")  # the exit camfab's has
 
 
-def _wall(command: list[str], env: dict[str, str] | None) -> float:
-    """Seconds *command* takes in the environment *env* (None: this one), run from the
-    checkout *env* puts on ``PYTHONPATH`` (``python -m`` puts its folder first on the path)."""
-    if env is None:
-        return wall(command)
-    start = time.perf_counter()
-    subprocess.run(command, check=False, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
-                   cwd=env["PYTHONPATH"], env=env)
-    return time.perf_counter() - start
-
-
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--runs", type=int, default=9)
@@ -109,10 +97,10 @@ def main() -> int:
                             str(options.before / "camfab")], check=True)
         times = {label: [] for label in commands}
         for command, env in commands.values():
-            _wall(command, env)  # warm the file cache
+            wall_in(command, env)  # warm the file cache
         for _ in range(options.runs):
             for label, (command, env) in commands.items():
-                times[label].append(_wall(command, env))
+                times[label].append(wall_in(command, env))
     floor = statistics.median(times["floor"])
     libraries = statistics.median(times["libraries"])
     print(f"floor ({FLOOR}): {floor:.3f} s (median of {options.runs}, "

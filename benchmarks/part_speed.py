@@ -29,10 +29,9 @@ import statistics
 import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
 
-from timing import ROOT, compile_package
+from timing import ROOT, compile_package, wall_in
 
 FLOOR = "import numpy, ezdxf, manifold3d"
 #: (label, design, largest build ratio to the floor or None, most seconds --step may add,
@@ -75,14 +74,6 @@ def _env(checkout: Path | None) -> dict[str, str]:
     return {**os.environ, "PYTHONPATH": str((checkout or ROOT).resolve())}
 
 
-def _wall(command: list[str], env: dict[str, str]) -> float:
-    """Seconds *command* takes, run from the checkout *env* puts first on the path."""
-    start = time.perf_counter()
-    subprocess.run(command, check=False, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
-                   cwd=env["PYTHONPATH"], env=env)
-    return time.perf_counter() - start
-
-
 def _in_process(design: Path, runs: int, env: dict[str, str]) -> dict[str, float]:
     """The files and read-back of *design*, in process (see :data:`_IN_PROCESS`)."""
     out = subprocess.run([sys.executable, "-c", _IN_PROCESS, str(design), str(runs)],
@@ -114,10 +105,10 @@ def main() -> int:
                 commands[f"{label} --step{suffix}"] = ([*build, "--step"], _env(checkout))
         times: dict[str, list[float]] = {label: [] for label in commands}
         for command, env in commands.values():
-            _wall(command, env)  # warm the file cache
+            wall_in(command, env)  # warm the file cache
         for _ in range(options.runs):
             for label, (command, env) in commands.items():
-                times[label].append(_wall(command, env))
+                times[label].append(wall_in(command, env))
     median = {label: statistics.median(t) for label, t in times.items()}
     floor = median["floor"]
     print(f"floor ({FLOOR}): {floor:.3f} s (median of {options.runs}, "

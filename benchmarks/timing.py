@@ -25,6 +25,18 @@ def wall(args: list[str]) -> float:
     return wall_and_cpu(args)[0]
 
 
+def wall_in(args: list[str], env: dict[str, str] | None) -> float:
+    """Seconds a command takes in the environment *env* (None: this one, from the repository),
+    run from the checkout *env* puts on ``PYTHONPATH`` (``python -m`` puts its folder first on
+    the path), its output discarded."""
+    if env is None:
+        return wall(args)
+    start = time.perf_counter()
+    subprocess.run(args, check=False, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                   cwd=env["PYTHONPATH"], env=env)
+    return time.perf_counter() - start
+
+
 def wall_and_cpu(args: list[str]) -> tuple[float, float]:
     """Seconds a command takes, run from the repository with its output discarded, and the
     processor seconds (user and system) it and its children used (0 where the platform does not
