@@ -31,12 +31,11 @@ from __future__ import annotations
 import argparse
 import os
 import statistics
-import subprocess
 import sys
 import tempfile
 from pathlib import Path
 
-from timing import ROOT, compile_package, wall_in
+from timing import ROOT, compile_package, modules_of_build, wall_in
 
 FLOOR = "import numpy, ezdxf, manifold3d"
 #: Every library a disc build imports (``sys.modules`` after ``camfab build``, less the standard
@@ -47,27 +46,10 @@ BUILDS = (("disc", ROOT / "designs" / "seed-10-4.yaml", 1.5, 1.0),
           ("drum", ROOT / "designs" / "demo-cylindrical.yaml", 1.8, None))
 
 
-#: Prints the modules ``camfab build`` of the design argv[1] has imported when it ends.
-_MODULES_OF_A_BUILD = """
-import contextlib, io, runpy, sys, tempfile
-with tempfile.TemporaryDirectory() as out:
-    sys.argv = ["camfab", "build", sys.argv[1], "-o", out]
-    try:
-        with contextlib.redirect_stdout(io.StringIO()):
-            runpy.run_module("camfab", run_name="__main__")
-    except SystemExit:
-        pass
-names = [name for name in sys.modules if name.startswith("camfab.")
-         or ("." not in name and not name.startswith("_")
-             and name not in sys.stdlib_module_names and name != "cython_runtime")]
-print(" ".join(names))
-"""
-
-
 def _imports_of(design: Path) -> str:
     """A program that imports what ``camfab build`` of *design* imports, and builds nothing."""
-    names = subprocess.run([sys.executable, "-c", _MODULES_OF_A_BUILD, str(design)], check=True,
-                           capture_output=True, text=True).stdout.split()
+    names = [name for name in modules_of_build(design)
+             if name.startswith("camfab.") or "." not in name]
     return (f"import {', '.join(names)}\n"
             "from camfab.export.ezdxf_import import load_ezdxf\n"
             "from camfab.export.report_html import REPORT_TEMPLATE, page_template\n"
@@ -93,8 +75,7 @@ def main() -> int:
                 env = {**os.environ, "PYTHONPATH": str(options.before.resolve())}
                 commands[f"{label} before"] = ([*build, str(Path(folder) / f"{label}-0")], env)
         if options.before is not None:
-            subprocess.run([sys.executable, "-m", "compileall", "-q",
-                            str(options.before / "camfab")], check=True)
+            compile_package(options.before)
         times = {label: [] for label in commands}
         for command, env in commands.values():
             wall_in(command, env)  # warm the file cache

@@ -38,7 +38,7 @@ import tempfile
 from pathlib import Path
 from typing import Any
 
-from timing import ROOT, compile_package, wall_in
+from timing import ROOT, compile_package, modules_of_build, wall_in
 
 FLOOR = "import numpy, ezdxf, manifold3d"
 #: (label, design, largest build ratio to the floor or None, most seconds --step may add,
@@ -76,20 +76,6 @@ def _in_process(design: Path, runs: int, env: dict[str, str]) -> dict[str, Any]:
     return json.loads(out.splitlines()[-1])
 
 
-def library_modules(build: list[str]) -> list[str]:
-    """The modules of other packages than camfab and Python's own that the command *build*
-    (this checkout's ``camfab build``) imports, as ``python -X importtime`` lists them; those
-    named with a leading underscore left to their packages."""
-    listed = subprocess.run([sys.executable, "-X", "importtime", *build[1:]], check=False,
-                            capture_output=True, text=True, cwd=ROOT, env=_env(None)).stderr
-    names = [line.rsplit("|", 1)[1].strip() for line in listed.splitlines()
-             if line.startswith("import time:") and line.count("|") == 2]
-    outside = {*sys.stdlib_module_names, "camfab", "site", "sitecustomize", "usercustomize"}
-    return [name for name in names[1:]  # (the first line is the header)
-            if name.split(".")[0] not in outside and not name.startswith("__")
-            and not any(part.startswith("_") for part in name.split("."))]
-
-
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--runs", type=int, default=5)
@@ -98,8 +84,7 @@ def main() -> int:
     compile_package()
     checkouts: dict[str, Path | None] = {"": None}
     if options.before is not None:
-        subprocess.run([sys.executable, "-m", "compileall", "-q",
-                        str(options.before / "camfab")], check=True)
+        compile_package(options.before)
         checkouts = {" before": options.before, "": None}
     with tempfile.TemporaryDirectory() as folder:
         commands: dict[str, tuple[list[str], dict[str, str]]] = {
@@ -112,7 +97,9 @@ def main() -> int:
                 commands[f"{label}{suffix}"] = (build, _env(checkout))
                 commands[f"{label} --step{suffix}"] = ([*build, "--step"], _env(checkout))
             for step in ("", " --step"):  # the libraries' imports of this checkout's build
-                modules = library_modules(commands[f"{label}{step}"][0])
+                modules = [module for module in modules_of_build(Path(design), *step.split())
+                           if module.split(".")[0] != "camfab"
+                           and not any(part.startswith("_") for part in module.split("."))]
                 commands[f"{label}{step} imports"] = (
                     [sys.executable, "-c", _IMPORTS, *modules], _env(None))
         times: dict[str, list[float]] = {label: [] for label in commands}

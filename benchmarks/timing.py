@@ -1,6 +1,6 @@
 """What the build benchmarks share: the repository, camfab byte-compiled as ``pip install``
-leaves it, the wall time of a command in a fresh process, and the median time of a call made
-in process."""
+leaves it, the modules a build imports, the wall time of a command in a fresh process, and the
+median time of a call made in process."""
 
 from __future__ import annotations
 
@@ -15,9 +15,35 @@ from typing import Any
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def compile_package() -> None:
-    """Byte-compile camfab, so that a build reads bytecode even where writing it is off."""
-    subprocess.run([sys.executable, "-m", "compileall", "-q", str(ROOT / "camfab")], check=True)
+def compile_package(checkout: Path = ROOT) -> None:
+    """Byte-compile the camfab of *checkout* (this one by default), so that a build reads
+    bytecode even where writing it is off."""
+    subprocess.run([sys.executable, "-m", "compileall", "-q", str(checkout / "camfab")],
+                   check=True)
+
+
+#: Prints the modules ``camfab build`` of the arguments argv[1:] has imported when it ends.
+_MODULES_OF_A_BUILD = """
+import contextlib, io, runpy, sys, tempfile
+with tempfile.TemporaryDirectory() as out:
+    sys.argv = ["camfab", "build", *sys.argv[1:], "-o", out]
+    try:
+        with contextlib.redirect_stdout(io.StringIO()):
+            runpy.run_module("camfab", run_name="__main__")
+    except SystemExit:
+        pass
+print(" ".join(name for name in sys.modules if not name.startswith("_")
+               and name.split(".")[0] not in sys.stdlib_module_names
+               and name != "cython_runtime"))
+"""
+
+
+def modules_of_build(design: Path, *options: str) -> list[str]:
+    """The modules ``camfab build DESIGN OPTIONS`` (this checkout's) has imported when it ends,
+    in the order imported: camfab's and other packages', not Python's own."""
+    return subprocess.run([sys.executable, "-c", _MODULES_OF_A_BUILD, str(design), *options],
+                          check=True, capture_output=True, text=True,
+                          cwd=ROOT).stdout.split()
 
 
 def wall(args: list[str]) -> float:
