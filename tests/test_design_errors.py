@@ -3,6 +3,7 @@ written. Each case is a distinct mistake a designer makes."""
 
 from __future__ import annotations
 
+import math
 import re
 from pathlib import Path
 
@@ -276,3 +277,41 @@ def test_a_linear_cam_refuses_a_flat_face_and_says_why(tmp_path: Path) -> None:
     assert result.stderr.startswith("ca.yaml:6: follower.type: a linear cam takes a roller or "
                                     "knife follower")
     assert "rests on the highest point" in result.stderr
+
+
+@pytest.mark.parametrize("top_deg", [89.0, 91.0])
+def test_an_oscillating_flat_face_that_would_swing_past_90_degrees_is_refused(
+        tmp_path: Path, top_deg: float) -> None:
+    """The face line lies a·sin Ψ − f from the cam centre: past Ψ = 90° that distance falls as
+    the face swings out, the contact passes behind the pivot and no cam drives the face there
+    (built, such a cam read back 9 mm off its motion). The demo's 15° swing is made to end at
+    *top_deg* from the line of centres through its base radius: sin ψ₀ = (Rb + f)/a."""
+    a, f, swing = 95.0, 8.0, 15.0
+    rb = a * math.sin(math.radians(top_deg - swing)) - f
+    text = (DESIGNS / "demo-oscillating-flat.yaml").read_text()
+    assert "base_radius: 50\n" in text and "pivot_distance: 95\n" in text
+    (tmp_path / "d.yaml").write_text(text.replace("base_radius: 50", f"base_radius: {rb!r}"))
+    result = run_cli("check", "d.yaml", cwd=tmp_path)
+    if top_deg < 90.0:
+        assert result.exit_code in (0, 1), result.output
+        return
+    assert result.exit_code == 2, result.output
+    line = text.splitlines().index("  pivot_distance: 95") + 1
+    message = result.stderr.strip()
+    assert "\n" not in message and "Traceback" not in message
+    assert message.startswith(f"d.yaml:{line}: follower.pivot_distance: "), message
+    assert "past 90°" in message
+    assert run_cli("build", "d.yaml", cwd=tmp_path).exit_code == 2
+    assert not (tmp_path / "exports").exists()
+
+
+def test_an_oscillating_flat_face_that_cannot_touch_the_base_circle_is_refused(
+        tmp_path: Path) -> None:
+    """(Rb + f)/a = 1.037: no arm angle puts the face line on the base circle."""
+    text = (DESIGNS / "demo-oscillating-flat.yaml").read_text()
+    (tmp_path / "d.yaml").write_text(text.replace("base_radius: 50", "base_radius: 90.5"))
+    result = run_cli("build", "d.yaml", cwd=tmp_path)
+    assert result.exit_code == 2, result.output
+    assert re.fullmatch(r"d\.yaml:\d+: follower\.face_offset: .*= 1\.037 must lie in \(0, 1\).*",
+                        result.stderr.strip()), result.stderr
+    assert not (tmp_path / "exports").exists()

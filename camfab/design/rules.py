@@ -263,7 +263,8 @@ def oscillating_fit(fol: FollowerGeometry, rb: float, max_swing: float) -> tuple
     """Whether an oscillating follower *fol* fits a plate cam of base radius *rb* (mm) through a
     swing of *max_swing* (rad): None, or the follower key to blame and the problem. The arm must
     reach the prime circle (a flat face: touch the base circle), stay short of 180° from the line
-    of centres, and keep the pivot outside the cam."""
+    of centres (a flat face: of 90°, where its distance from the cam centre stops growing), and
+    keep the pivot outside the cam."""
     a, arm = fol.pivot_distance, fol.arm_length
     if fol.flat:
         ratio = (rb + fol.face_offset) / a
@@ -276,6 +277,14 @@ def oscillating_fit(fol: FollowerGeometry, rb: float, max_swing: float) -> tuple
             return ("arm_length", f"the arm cannot reach the prime circle: need "
                     f"|pivot_distance − arm_length| < {mm(rp)} < pivot_distance + arm_length")
     psi0 = fol.rest_position(rb)
+    if fol.flat and psi0 + max_swing >= math.pi / 2:
+        # past 90° the face line's distance from the cam centre, a·sin Ψ − f, falls as Ψ grows:
+        # the contact passes behind the pivot's foot and the cam would drive the face back
+        return ("pivot_distance", f"the face starts at {math.degrees(psi0):.4g}° from the line "
+                f"of centres (sin ψ₀ = (base radius + face_offset)/pivot_distance) and swings "
+                f"{math.degrees(max_swing):.4g}°: past 90° the cam cannot drive it (the contact "
+                "passes behind the pivot); a longer pivot_distance, or a smaller base radius, "
+                "face_offset or swing, keeps it below")
     if psi0 + max_swing >= math.pi:
         return ("arm_length", f"the arm starts at {math.degrees(psi0):.4g}° from the line of "
                 f"centres and swings {math.degrees(max_swing):.4g}°: it would pass 180°")
@@ -283,7 +292,7 @@ def oscillating_fit(fol: FollowerGeometry, rb: float, max_swing: float) -> tuple
     # trace point's farthest distance less the roller radius; the pivot must lie beyond it
     top = psi0 + max_swing
     if fol.flat:
-        reach = a * math.sin(min(top, math.pi / 2)) - fol.face_offset
+        reach = a * math.sin(top) - fol.face_offset
     else:
         reach = math.sqrt(a * a + arm * arm - 2 * a * arm * math.cos(top)) - fol.radius
     if reach >= a:
