@@ -14,7 +14,12 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from camfab import __version__
-from camfab.analysis.kinematics import MotionUnits, continuity_findings, segment_stats
+from camfab.analysis.kinematics import (
+    MotionUnits,
+    continuity_findings,
+    ringing_words,
+    segment_stats,
+)
 from camfab.analysis.record import Analysis
 from camfab.design import Design
 from camfab.writing import write_files
@@ -108,7 +113,7 @@ def analyse(design: Design, advice: bool = True) -> Analysis:
     the cam at its speed (the elastic follower train, the contact stress, the roller's life);
     with *advice*, each failed check a sizing answers told the size that passes (a search of
     some hundredths of a second)."""
-    from camfab.analysis.at_speed import at_speed
+    from camfab.analysis.at_speed import at_speed, force_note
     from camfab.analysis.cam_checks import bore_finding
     from camfab.kinds import kind_of
 
@@ -116,7 +121,10 @@ def analyse(design: Design, advice: bool = True) -> Analysis:
     program = design.program
     units = MotionUnits(design.follower.oscillating)
     omega = design.cam.omega
-    findings, steps = continuity_findings(program, units, omega)
+    ringing = ringing_words(design.follower.stiffness is not None,
+                            force_note(design, design.spring is not None,
+                                       design.cam.spec.two_sided))
+    findings, steps = continuity_findings(program, units, omega, ringing)
     bore = bore_finding(design, kind.mounted)
     findings = [*findings, *([bore] if bore is not None else [])]
     stats = segment_stats(program, steps, units, omega)

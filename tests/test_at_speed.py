@@ -6,6 +6,7 @@ the contact stress."""
 from __future__ import annotations
 
 import csv
+import html
 import io
 import json
 import math
@@ -279,3 +280,39 @@ def test_every_starter_builds_with_its_commented_keys_given() -> None:
             assert speed.stress is not None, kind
         if analysis.design.follower.type == "roller":
             assert speed.life is not None, kind
+
+
+@pytest.mark.parametrize("given", ["stiffness", "stiffness, no spring", "rigid"])
+def test_a_jerk_step_says_where_its_ringing_is_seen(tmp_path: Path, given: str) -> None:
+    """A jerk step sets an elastic follower ringing: with a stiffness the train's residual
+    vibration says how much (or what it lacks), never "give follower.stiffness" — in the
+    terminal, the report's page and its JSON alike."""
+    text = VALVE.read_text().replace("polynomial-4567", "cycloidal")  # jerk steps at the dwells
+    if given == "rigid":
+        text = re.sub(r"\n  (stiffness|damping_ratio): .*", "", text)
+    if given == "stiffness, no spring":
+        text = re.sub(r"\nspring:\n  rate: .*\n  preload: .*", "", text)
+        text = text.replace("limits:\n  contact_stress: 1200 MPa     # a through-hardened steel "
+                            "cam\n  roller_life: 10000 h\n", "")
+    path = tmp_path / "valve.yaml"
+    path.write_text(text)
+    result = run_cli("build", str(path), "-o", str(tmp_path / "out"))
+    assert result.exit_code in (0, 1), result.output
+    json_path = tmp_path / "out" / "demo-valve-at-speed-report.json"
+    report = json.loads(json_path.read_text())
+    [jerk] = [c for c in report["checks"]
+              if c["id"] == "continuity" and c["message"].startswith("jerk steps")]
+    page = html.unescape((tmp_path / "out" / "demo-valve-at-speed-report.html").read_text())
+    terminal = run_cli("check", str(path)).output
+    for shown in (jerk["message"], page, " ".join(terminal.split())):
+        if given == "rigid":
+            assert "give follower.stiffness to see how much" in shown
+            continue
+        assert "give follower.stiffness" not in shown
+        if given == "stiffness":
+            assert "the elastic follower train's residual vibration in the dwells says how " \
+                   "much" in shown
+        else:
+            assert "would say how much, but no spring holds the follower" in shown
+    if given == "stiffness":
+        assert isinstance(report["dynamics"]["residual_vibration_mm"], float)

@@ -100,9 +100,26 @@ _CONSEQUENCE = {
     1: "infinite acceleration: the follower is struck at every turn",
     2: "infinite jerk: vibration and noise at speed",
     3: ("finite, as the fundamental law of cam design asks (the velocity and the acceleration "
-        "continuous); at speed a jerk step sets an elastic follower ringing: give "
-        "follower.stiffness to see how much"),
+        "continuous); at speed a jerk step sets an elastic follower ringing"),
 }
+
+#: How much a jerk step sets the follower ringing, where camfab says it: the elastic follower
+#: train, which needs a stiffness (and, to be computed, the forces: a mass, a speed and what
+#: holds the follower on the cam).
+RIGID_RINGING = "give follower.stiffness to see how much"
+ELASTIC_RINGING = "the elastic follower train's residual vibration in the dwells says how much"
+
+
+def ringing_words(stiffness: bool, missing: str | None) -> str:
+    """Where to see how much a jerk step sets the follower ringing: a rigid train (no
+    *stiffness*) needs one; an elastic one's vibration is computed, or (*missing*: why the
+    forces are not) says what it needs."""
+    if not stiffness:
+        return RIGID_RINGING
+    if missing is not None:
+        return f"the elastic follower train's vibration would say how much, but {missing}"
+    return ELASTIC_RINGING
+
 _SEVERITY: dict[int, Severity] = {1: "error", 2: "warning", 3: "warning"}
 #: The orders whose steps fail their check: a step of the velocity strikes the follower, one of
 #: the acceleration means infinite jerk; a step of the jerk (cycloidal, 3-4-5 and most laws next
@@ -110,9 +127,10 @@ _SEVERITY: dict[int, Severity] = {1: "error", 2: "warning", 3: "warning"}
 _FAILS = (1, 2)
 
 
-def continuity_findings(program: MotionProgram, units: MotionUnits,
-                        omega: float | None) -> tuple[list[Finding], list[Step]]:
-    """One ``continuity`` finding per derivative order, and the steps found."""
+def continuity_findings(program: MotionProgram, units: MotionUnits, omega: float | None,
+                        ringing: str = RIGID_RINGING) -> tuple[list[Finding], list[Step]]:
+    """One ``continuity`` finding per derivative order, and the steps found; a jerk step's
+    says where to see the ringing it sets off (*ringing*: :func:`ringing_words`)."""
     steps = joint_steps(program)
     findings = []
     for order in (1, 2, 3):
@@ -134,7 +152,8 @@ def continuity_findings(program: MotionProgram, units: MotionUnits,
         worst = max(mine, key=lambda s: s.size)
         angles = listed([f"{degrees(s.angle):.6g}°" for s in mine])
         message = (f"{name} steps at {angles} (largest {scaled(worst.size):.4g} {unit} at "
-                   f"{degrees(worst.angle):.6g}°): {_CONSEQUENCE[order]}")
+                   f"{degrees(worst.angle):.6g}°): {_CONSEQUENCE[order]}"
+                   f"{': ' + ringing if order == 3 else ''}")
         findings.append(Finding(
             "continuity", order not in _FAILS, _SEVERITY[order], message,
             value=scaled(worst.size), limit=0.0, unit=unit,
