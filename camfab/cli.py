@@ -185,9 +185,10 @@ def check(designs: tuple[str, ...]) -> None:
                    "length, that lets the base radius be least.")
 def size(design: str, with_offset: bool, with_pivot: bool) -> None:
     """Find the least base radius of DESIGN's cam (a drum's radius) that meets its limits:
-    pressure angle, undercut, limits.min_radius_of_curvature, face width and the fit of bore
-    and follower. Prints what governs it and every limit at that size; writes nothing. Exit 0
-    when a size exists, 1 when none does."""
+    pressure angle, undercut, limits.min_radius_of_curvature, face width, limits.contact_stress,
+    limits.roller_life and the fit of bore and follower. Prints what governs it and every limit
+    at that size; writes nothing. Exit 0 when a size exists, 1 when none does (a roller's life
+    falls as the cam grows: a life the sizes the other limits allow cannot reach is said so)."""
     sys.exit(_finish([_guarded(design, lambda: _size_one(design, with_offset, with_pivot))]))
 
 

@@ -15,8 +15,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import yaml
 
 from camfab.analysis.contact import Contact, ContactSide, roller_life
+from camfab.design.loader import unsized_design
 from camfab.pipeline import analyse, design_from_text, load_design, render, size_design
 
 from .conftest import DESIGNS, run_cli
@@ -316,3 +318,82 @@ def test_a_jerk_step_says_where_its_ringing_is_seen(tmp_path: Path, given: str) 
             assert "would say how much, but no spring holds the follower" in shown
     if given == "stiffness":
         assert isinstance(report["dynamics"]["residual_vibration_mm"], float)
+
+
+def _with_life(name: str, limits: dict[str, object], **cam: object) -> str:
+    """Design *name* from designs/ with a roller bearing of C = 2 kN, a follower mass where it
+    has none, *limits* for its own and the cam's keys *cam* changed."""
+    data = yaml.safe_load((DESIGNS / f"{name}.yaml").read_text())
+    data["follower"].setdefault("mass", 0.5)
+    data["follower"]["roller_load_rating"] = "2 kN"
+    data["limits"] = limits
+    data["cam"].update(cam)
+    return yaml.safe_dump(data)
+
+
+def _life(text: str) -> float:
+    """The build's roller life (h, its least roller's) for the design *text*."""
+    speed = analyse(design_from_text(text), advice=False).at_speed
+    assert speed is not None and speed.life is not None
+    return speed.life.hours_min
+
+
+def test_camfab_size_holds_the_roller_life_and_its_answer_passes_the_build(
+        tmp_path: Path) -> None:
+    """A conjugate pair's roller b lasts longer on a larger cam up to some size (its pressure
+    angle falls faster than its turns grow): held to 2.2e5 h, the pair's least size is set by
+    the life. At it the build's every check passes, its roller_life included; 0.01 mm less the
+    life fails."""
+    text = _with_life("demo-conjugate", {"roller_life": "220000 h"}, base_radius="auto")
+    path = tmp_path / "pair.yaml"
+    path.write_text(text)
+    result = run_cli("size", str(path))
+    assert result.exit_code == 0, result.output
+    assert "governed by the roller's bearing life" in result.output
+    sizing = size_design(*unsized_design(path, frozenset({"cam.base_radius"})))
+    assert sizing.size is not None
+    at = text.replace("base_radius: auto", f"base_radius: {sizing.size!r}")
+    (tmp_path / "at.yaml").write_text(at)
+    assert run_cli("check", str(tmp_path / "at.yaml")).exit_code == 0
+    assert _life(at) >= 220000.0
+    less = text.replace("base_radius: auto", f"base_radius: {sizing.size - 0.01!r}")
+    assert _life(less) < 220000.0
+    checked = run_cli("check", str(path))  # auto: sized, then checked as built
+    assert checked.exit_code == 0, checked.output
+
+
+@pytest.mark.parametrize(("name", "key"), [("demo-valve-at-speed", "base_radius"),
+                                           ("demo-cylindrical", "radius")])
+def test_a_roller_life_no_size_reaches_is_refused_naming_it(tmp_path: Path, name: str,
+                                                           key: str) -> None:
+    """A roller's life falls as the cam grows (the roller turns more often a turn): held to
+    a pressure angle that needs a cam larger than the life allows, no size meets both.
+    `camfab size` says so naming the life (exit 1); a build of `auto` refuses the design on
+    the key's line (exit 2, nothing written)."""
+    pressure = 12 if key == "base_radius" else 20
+    smallest = design_from_text(_with_life(name, {"pressure_angle": pressure}))
+    sized = size_design(smallest, frozenset({f"cam.{key}"}))
+    assert sized.size is not None
+    # the life on the least cam the pressure angle allows, and on one a tenth smaller
+    at_least = _life(_with_life(name, {"pressure_angle": pressure}, **{key: sized.size}))
+    smaller = _life(_with_life(name, {"pressure_angle": 89}, **{key: 0.9 * sized.size}))
+    assert smaller > at_least  # life falls as the cam grows
+    limit = 0.5 * (smaller + at_least)  # met by the smaller cam, not by any large enough
+    text = _with_life(name, {"pressure_angle": pressure, "roller_life": f"{limit!r} h"},
+                      **{key: "auto"})
+    path = tmp_path / "d.yaml"
+    path.write_text(text)
+    result = run_cli("size", str(path))
+    assert result.exit_code == 1, result.output
+    words = " ".join(result.output.split())
+    size_name = "base radius" if key == "base_radius" else "drum radius"
+    assert re.search(rf"no {size_name} up to [\d.]+ mm meets the limits: the "
+                     r"roller's bearing life is [\d.e+]+ h at a", words), words
+    assert "fails at every larger" in words
+    assert re.search(r"where it holds, pressure angle[^;]* is", words), words
+    built = run_cli("build", str(path), "-o", str(tmp_path / "out"))
+    assert built.exit_code == 2
+    line = text.splitlines().index(f"  {key}: auto") + 1
+    assert re.fullmatch(rf"{re.escape(str(path))}:{line}: cam\.{key}: auto: no .* the roller's "
+                        r"bearing life .*", built.stderr.strip()), built.stderr
+    assert not (tmp_path / "out").exists()

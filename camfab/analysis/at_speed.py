@@ -248,8 +248,9 @@ def life_finding(analysis: Analysis, record: AtSpeed, limit: float) -> Finding:
                        "h")
     return Finding("roller_life", False, "error",
                    f"{detail}, less than the required {fmt(limit)} h: a roller of higher load "
-                   "rating, a lighter load (less preload, a lower speed) or a larger roller "
-                   "lasts longer", life.hours[k], limit, "h")
+                   "rating, a lighter load (less preload, a lower speed), a larger roller or a "
+                   "smaller cam (its roller turns less often) lasts longer", life.hours[k],
+                   limit, "h")
 
 
 def sample_at(grid: Array, values: Array, theta: Array) -> Array:

@@ -252,7 +252,7 @@ def roller_life(design: Design, contact: Contact, force: Array) -> RollerLife | 
     if rating is None or radius is None or speed is None or not contact.sides:
         return None
     p = fol.life_exponent
-    weights = _trapezoid(contact.theta)
+    weights = trapezoid_weights(contact.theta)
     names = contact.rollers
     revolutions, loads, hours = [], [], []
     for roller in range(len(names)):
@@ -276,7 +276,7 @@ def roller_life(design: Design, contact: Contact, force: Array) -> RollerLife | 
     return RollerLife(names, tuple(revolutions), tuple(loads), tuple(hours))
 
 
-def _trapezoid(theta: Array) -> Array:
+def trapezoid_weights(theta: Array) -> Array:
     """The trapezoid rule's weights (rad) on the grid *theta* (a joint twice: its step is 0)."""
     step = np.diff(theta)
     weights = np.zeros(theta.size)

@@ -13,7 +13,7 @@ import numpy as np
 
 from camfab.analysis.cam_checks import fmt, where
 from camfab.analysis.findings import Finding
-from camfab.analysis.sizing import SEARCH_FACTOR, Grid, LimitValue, SizeProblem
+from camfab.analysis.sizing import SEARCH_FACTOR, Grid, LimitValue, SizeProblem, passes
 from camfab.angles import Extreme, extreme, ranges_deg
 from camfab.design import Design
 from camfab.geometry.drum import Drum, DrumDense
@@ -108,12 +108,13 @@ def drum_findings(design: Design, dense: DrumDense, numbers: DrumNumbers) -> lis
 def drum_problem(design: Design, grid_pair: tuple[Grid, Grid]) -> SizeProblem:
     """The sizing of a drum's radius (mm): the pressure angle at the groove's floor (tan φ =
     s′/r), the developed groove's curvature against the roller at every radius of the groove
-    (the build's ``groove`` check), the contact stress on the flanks where the design limits
-    it, and the drum's fit as the design file's rules judge it: a wall under the groove, round
-    the bore and beyond the keyway. Measured on *grid_pair* (the build's grid of cam angles,
-    and with a finer one)."""
+    (the build's ``groove`` check), the contact stress on the flanks and the roller bearing's
+    life where the design limits them, and the drum's fit as the design file's rules judge it: a
+    wall under the groove, round the bore and beyond the keyway. Measured on *grid_pair* (the
+    build's grid of cam angles, and with a finer one)."""
     from dataclasses import replace
 
+    from camfab.analysis.life_sizing import LifeSide, life_limit
     from camfab.analysis.stress_sizing import stress_limit
     from camfab.design.rules import MIN_WALL_MM, wall_need
     from camfab.geometry.drum import ANALYSIS_RADII
@@ -133,6 +134,7 @@ def drum_problem(design: Design, grid_pair: tuple[Grid, Grid]) -> SizeProblem:
     # the drum of the design at radius 1: only its radius changes
     base = replace(_drum_of(design), radius=1.0)
     stress = stress_limit(design, grid_pair)
+    life = life_limit(design, grid_pair)
 
     def evaluate(radius: float, fine: bool, until: bool = False) -> list[LimitValue]:
         fit = [LimitValue(key, what, radius >= need, radius, need, least=need, of_size=True)
@@ -157,13 +159,20 @@ def drum_problem(design: Design, grid_pair: tuple[Grid, Grid]) -> SizeProblem:
                           "roller", not bool((size <= drum.roller).any()),
                           float(size[row, col]), drum.roller, "mm", "min",
                           math.degrees(float(theta[col])))]
-        if stress is not None and not (until and not all(limit.ok for limit in out)):
-            # the flanks as the build's contact has them (camfab.kinds.drum)
-            radii = np.linspace(drum.root, drum.radius, ANALYSIS_RADII)[:, None]
-            normal = 1.0 / np.mean(np.cos(drum.pressure_angle(ds, radii)), axis=0)
+        if (stress is None and life is None) or (until and not passes(out)):
+            return out
+        # the flanks as the build's contact has them (camfab.kinds.drum)
+        radii = np.linspace(drum.root, drum.radius, ANALYSIS_RADII)[:, None]
+        normal = 1.0 / np.mean(np.cos(drum.pressure_angle(ds, radii)), axis=0)
+        if stress is not None:
             out.append(stress.at(grid, fine, [
                 (1, drum.flank_curvature(ds, dds, radii, True), normal),
                 (-1, drum.flank_curvature(ds, dds, radii, False), normal)]))
+        if life is not None and not (until and not passes(out)):
+            # the roller rolls along the groove at its pitch radius, on the flank that carries
+            rolling = np.hypot(drum.pitch, ds)
+            out.append(life.at(grid, [LifeSide(1, normal, rolling, always=False),
+                                      LifeSide(-1, normal, rolling, always=False)]))
         return out
 
     low = max(need for _, _, need in needs)

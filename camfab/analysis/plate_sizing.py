@@ -2,11 +2,12 @@
 
 The limits are the build's checks (:mod:`camfab.analysis.cam_checks`,
 :mod:`camfab.analysis.groove_checks`), judged as they judge them on the same exact curves: the
-pressure angle, the envelope's folding (``undercut``, or both walls of a groove: ``groove``),
-the profile's convex radius against ``limits.min_radius_of_curvature``, the face width a flat
-face needs; and the part's fit as the design file's rules judge it: the bore and keyway inside
-the base circle, the follower's line inside the prime circle, an arm that reaches it, cam b of a
-conjugate pair with a base circle round the bore. Lengths are millimetres and angles degrees.
+pressure angle, the envelope's folding (``undercut``, or both walls of a groove: ``groove``), the
+profile's convex radius against ``limits.min_radius_of_curvature``, the face width a flat face
+needs, the contact stress and the roller bearing's life where the design limits them; and the
+part's fit as the design file's rules judge it: the bore and keyway inside the base circle, the
+follower's line inside the prime circle, an arm that reaches it, cam b of a conjugate pair with a
+base circle round the bore. Lengths are millimetres and angles degrees.
 """
 
 from __future__ import annotations
@@ -17,6 +18,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from camfab.analysis.life_sizing import LifeLimit, LifeSide, life_limit, offset_rolling
 from camfab.analysis.sizing import (
     SEARCH_FACTOR,
     Grid,
@@ -40,14 +42,15 @@ if TYPE_CHECKING:
 @dataclass(frozen=True)
 class CamLimits:
     """What one plate is held to: the pressure-angle limit (deg), the curvature margin (mm), the
-    flat face's width (mm, or None), whether it is a groove (both walls must be offsets), and
-    the contact stress (None: not held to one)."""
+    flat face's width (mm, or None), whether it is a groove (both walls must be offsets), the
+    contact stress and the roller bearing's life (None: not held to one)."""
 
     pressure_deg: float
     margin: float
     face_width: float | None
     groove: bool
     stress: StressLimit | None = None
+    life: LifeLimit | None = None
 
     def at(self, cam: DiscCam, grid: Grid, suffix: str = "", until: bool = False,
            fine: bool = False, carries: int = 1) -> list[LimitValue]:
@@ -120,7 +123,24 @@ class CamLimits:
         if self.stress is not None:
             out.append(self.stress.at(grid, fine, self._sides(cam, parts, working, contact,
                                                               carries), suffix))
+            if stop():
+                return out
+        if self.life is not None and parts is not None:
+            out.append(self.life.at(grid, self._rolled(parts, fol.radius, carries), suffix))
         return out
+
+    def _rolled(self, parts: PitchParts, radius: float,
+                carries: int) -> list[LifeSide]:
+        """The walls a roller of (working) *radius* (mm) rides for its bearing's life, as the
+        build's contact has them: the profile, loaded or not, or a groove's inner wall where
+        it pushes the follower along its motion and its outer wall where it pulls it back;
+        the normal force 1/cos φ, the rolling speed the wall's (mm/rad)."""
+        normal = 1.0 / np.cos(parts.pressure_angle())
+        speed, rho = np.hypot(parts.d1x, parts.d1y), parts.radius()
+        if not self.groove:
+            return [LifeSide(carries, normal, offset_rolling(speed, rho, radius))]
+        return [LifeSide(carries, normal, offset_rolling(speed, rho, radius), always=False),
+                LifeSide(-carries, normal, offset_rolling(speed, rho, -radius), always=False)]
 
     def _sides(self, cam: DiscCam, parts: PitchParts | None, working: Array,
                contact: Array | None, carries: int) -> list[tuple[int, Array, Array]]:
@@ -216,7 +236,7 @@ def plate_problem(design: Design, follower: FollowerGeometry, grid_pair: tuple[G
     face_width = design.follower.face_width
     stress = stress_limit(design, grid_pair)
     rules = CamLimits(math.degrees(design.pressure_angle_limit), design.min_profile_radius,
-                      face_width, groove, stress)
+                      face_width, groove, stress, life_limit(design, grid_pair))
     working = replace(follower, radius=follower.radius + clearance)
     sigma = design.cam.sigma
     pair_grids = grids(opposite(design.program)) if partner else None

@@ -171,6 +171,12 @@ class Found:
     #: value is the same at every size.
     searched_to: float | None = None
     unchanged: frozenset[str] = frozenset()
+    #: When no size meets the limits and one of them holds on small sizes only (a roller's
+    #: life, which falls as the cam grows): its value at the least size from which it fails at
+    #: every size searched (``least``: that size), and the limits that fail at the largest size
+    #: where it still holds (``least``: that size).
+    capped: tuple[LimitValue, ...] = ()
+    below_cap: tuple[LimitValue, ...] = ()
 
 
 def passes(limits: list[LimitValue]) -> bool:
@@ -207,19 +213,36 @@ def least_size(problem: SizeProblem, tolerance: float = SIZE_TOLERANCE_MM,
 
 def _none(problem: SizeProblem, sizes: list[float]) -> Found:
     """No size meets the limits: for each limit that fails at every size of the scan, the best
-    value it reached (``least``: the size where)."""
+    value it reached (``least``: the size where); for one that holds on the smaller sizes
+    only, where it starts failing for good, and what fails where it still holds."""
     best: dict[str, LimitValue] = {}
     seen: dict[str, set[float]] = {}
-    for size in sizes:
-        for limit in problem.evaluate(size, False):
+    measured = [(size, problem.evaluate(size, False)) for size in sizes]
+    held: dict[str, int] = {}  # the last size (its index) where each limit holds
+    for k, (size, limits) in enumerate(measured):
+        for limit in limits:
             if limit.value is not None:
                 seen.setdefault(limit.id, set()).add(round(limit.value, 9))
-            if not limit.ok and (limit.id not in best or limit.better(best[limit.id])):
+            if limit.ok:
+                held[limit.id] = k
+            elif limit.id not in best or limit.better(best[limit.id]):
                 best[limit.id] = _at(limit, size)
-    limits = problem.evaluate(sizes[-1], False)
-    unmet = tuple(best[limit.id] for limit in limits if not limit.ok and limit.id in best)
+    limits = measured[-1][1]
+    failing = [limit for limit in limits if not limit.ok and limit.id in best]
+    unmet = tuple(best[limit.id] for limit in failing if limit.id not in held)
+    capped: list[LimitValue] = []
+    below: tuple[LimitValue, ...] = ()
+    for limit in failing:
+        if limit.id in held:
+            size, at = measured[held[limit.id] + 1]
+            capped.append(_at(next(x for x in at if x.id == limit.id), size))
+    if capped:
+        size, at = measured[min(held[limit.id] for limit in capped)]
+        ids = {limit.id for limit in capped}
+        below = tuple(_at(x, size) for x in at if not x.ok and x.id not in ids)
     return Found(None, tuple(limits), None, unmet, sizes[-1],
-                 frozenset(key for key, values in seen.items() if len(values) == 1))
+                 frozenset(key for key, values in seen.items() if len(values) == 1),
+                 tuple(capped), below)
 
 
 def _at(limit: LimitValue, size: float) -> LimitValue:
@@ -490,27 +513,59 @@ def fmt(value: float | None, unit: str = "") -> str:
 
 def unmet_words(sizing: Sizing, name: str) -> str:
     """Why no size meets the limits: for each limit no size met, the best value it reached and
-    at which size, or that no size changes it (*name*: the key sized, in words)."""
+    at which size, or that no size changes it; for each that holds on the smaller sizes only,
+    the size from which it fails, and what fails where it still holds (*name*: the key sized,
+    in words)."""
     found = sizing.found
     parts = []
     for limit in found.unmet:
-        bound = "at most" if limit.sense == "max" else "at least"
         if limit.id in found.unchanged:
             where = f"whatever the {name}"
         else:
             where = f"at best, at a {name} of {fmt(limit.least, 'mm')}"
-        parts.append(f"{limit.what} is {fmt(limit.value, limit.unit)} {where} (it must be "
-                     f"{bound} {fmt(limit.limit, limit.unit)})")
+        parts.append(f"{_measured(limit)} {where}{_must(limit)}")
+    for limit in found.capped:
+        at = fmt(limit.least, "mm")
+        if limit.value is None:  # a fit, which says why
+            parts.append(f"from a {name} of {at} on, {limit.what}")
+        else:
+            parts.append(f"{_measured(limit)} at a {name} of {at}{_must(limit)} and fails at "
+                         f"every larger {name} searched")
+    if found.below_cap:
+        size = found.below_cap[0].least
+        parts.append(f"at a {name} of {fmt(size, 'mm')}, where "
+                     f"{'it holds' if len(found.capped) == 1 else 'they hold'}, "
+                     + ", ".join(f"{_measured(limit)}{_must(limit)}"
+                                 for limit in found.below_cap))
     if not parts:
         parts = [limit.what for limit in found.limits if not limit.ok]
     reach = f" up to {fmt(found.searched_to, 'mm')}" if found.searched_to else ""
     return f"no {name}{reach} meets the limits: {'; '.join(parts)}"
 
 
+def _measured(limit: LimitValue) -> str:
+    """A limit's value in words (its description alone where it has no value: a fit that
+    fails, which says why)."""
+    if limit.value is None:
+        return limit.what
+    return f"{limit.what} is {fmt(limit.value, limit.unit)}"
+
+
+def _must(limit: LimitValue) -> str:
+    """What a limit asks, in parentheses after its value (nothing for a fit's)."""
+    if limit.value is None or limit.limit is None:
+        return ""
+    bound = "at most" if limit.sense == "max" else "at least"
+    return f" (it must be {bound} {fmt(limit.limit, limit.unit)})"
+
+
 #: The checks a sizing can answer, when the sizing sees them fail too (a roller's envelope that
 #: crosses itself at a velocity step is an undercut no radius removes).
 ADVISED = ("pressure_angle", "undercut", "curvature", "groove", "face_width",
-           "contact_stress")
+           "contact_stress", "roller_life")
+
+#: The checks that are one of both cams of a pair and a limit of each.
+_ONE_CHECK = {"contact_stress_b": "contact_stress", "roller_life_b": "roller_life"}
 
 
 def advice(design: Design, problem_of: ProblemOf, failing: set[str]) -> dict[str, str]:
@@ -524,8 +579,8 @@ def advice(design: Design, problem_of: ProblemOf, failing: set[str]) -> dict[str
     name = SIZE_NAMES[problem.key]
     current = design.cam.radius if problem.key == "radius" else design.cam.base_radius
     assert current is not None
-    # the contact stress is one check of both cams of a pair, a limit of each
-    seen = {"contact_stress" if limit.id == "contact_stress_b" else limit.id
+    # the contact stress and the roller life are one check of both cams of a pair
+    seen = {_ONE_CHECK.get(limit.id, limit.id)
             for limit in problem.evaluate(current, False) if not limit.ok} & failing
     if not seen:
         return {}

@@ -82,7 +82,7 @@ def stress_limit(design: Design, grid_pair: tuple[Grid, Grid]) -> StressLimit | 
     return StressLimit(limit, effective_modulus(e1, nu1, e2, nu2),
                        "point" if fol.type == "mushroom" else "line",
                        0.0 if radius is None else 1.0 / radius, length,
-                       _forces(design, grid_pair, held_by_spring))
+                       forces(design, grid_pair, held_by_spring))
 
 
 #: The forces of the last few sizings' grids, by the ids of the design and the grids (held, so
@@ -91,11 +91,12 @@ def stress_limit(design: Design, grid_pair: tuple[Grid, Grid]) -> StressLimit | 
 _FORCES: dict[tuple[int, int, int], tuple[object, tuple[Grid, Grid], tuple[Array, Array]]] = {}
 
 
-def _forces(design: Design, grid_pair: tuple[Grid, Grid],
-            held_by_spring: bool) -> tuple[Array, Array]:
+def forces(design: Design, grid_pair: tuple[Grid, Grid],
+           held_by_spring: bool) -> tuple[Array, Array]:
     """The force along the follower's motion (N) on the pair's grids: the build's, and the
     build's followed by the finer one's, each solved on its own (an elastic train's response
-    runs over one turn)."""
+    runs over one turn); the roller life's sizing takes the build's
+    (:mod:`camfab.analysis.life_sizing`)."""
     from camfab.analysis.at_speed import drive_force
 
     build, both = grid_pair
@@ -106,14 +107,14 @@ def _forces(design: Design, grid_pair: tuple[Grid, Grid],
     first = drive_force(design, build.theta, build.motion, held_by_spring)
     count = build.theta.size
     if both.theta.size == count:
-        forces = (first, first)
+        both_forces = (first, first)
     else:
         rest = drive_force(design, both.theta[count:], both.motion[:, count:], held_by_spring)
-        forces = (first, np.concatenate((first, rest)))
+        both_forces = (first, np.concatenate((first, rest)))
     if len(_FORCES) >= 8:
         _FORCES.pop(next(iter(_FORCES)))
-    _FORCES[key] = (design, grid_pair, forces)
-    return forces
+    _FORCES[key] = (design, grid_pair, both_forces)
+    return both_forces
 
 
 def plate_sides(cam_radius: Array, normal: Array, groove_radius: float | None,
