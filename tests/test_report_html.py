@@ -11,7 +11,7 @@ import re
 
 import pytest
 
-from camfab.pipeline import analyse, load_design, render
+from camfab.pipeline import analyse, design_from_text, load_design, render
 
 from .conftest import DESIGNS
 
@@ -127,3 +127,54 @@ def test_a_globoid_s_motion_table_has_no_column_that_is_always_empty() -> None:
     readout = [html.unescape(h) for h in re.findall(r"<th>(.*?)</th>", _section(page, "drawing"))]
     assert "undercut roller radius (mm)" in readout
     assert not [label for label in readout if "curvature" in label]
+
+
+def _check_rows(page: str) -> dict[str, list[str]]:
+    """The check table's cells by check label: mark, label, severity, value, limit, where."""
+    rows = {}
+    for row in re.findall(r'<tr class="(?:fail|warn|na|)">(.*?)</tr>', _section(page, "findings"),
+                          flags=re.S):
+        cells = [html.unescape(re.sub(r"<[^>]+>", "", cell)).strip()
+                 for cell in re.findall(r"<td[^>]*>(.*?)</td>", row, flags=re.S)]
+        rows[cells[1]] = cells
+    return rows
+
+
+def test_the_check_table_shows_real_limits_and_where_each_value_is() -> None:
+    """A jerk step passes whatever its size: no limit (not "limit 0 m/s³" beside a passing
+    416373.9 m/s³); a passing pressure angle says where it is largest, as its message does;
+    the inputs carry their units (mass kg, stiffness N/mm, load rating N, …), in the page and
+    in the JSON's ``design_units``."""
+    text = (DESIGNS / "demo-valve-at-speed.yaml").read_text().replace("polynomial-4567",
+                                                                       "cycloidal")
+    files = render(analyse(design_from_text(text))).files
+    page = files["demo-valve-at-speed-report.html"].decode()
+    report = json.loads(files["demo-valve-at-speed-report.json"])
+    checks = {(c["id"], c.get("quantity")): c for c in report["checks"]}
+    jerk = checks[("continuity", "jerk")]
+    assert jerk["ok"] and jerk["value"] > 0 and jerk["limit"] is None
+    rows = _check_rows(page)
+    assert rows["continuity (jerk)"][4] == ""
+    # the steps' places, the joints of the cycloidal rise and return with the dwells
+    assert rows["continuity (jerk)"][5] == "0, 110, 130, 240"
+    pressure = checks[("pressure_angle", None)]
+    assert pressure["ok"] and pressure["ranges_deg"] == []
+    at = re.search(r"largest pressure angle [\d.]+° at ([\d.]+)°", pressure["message"])
+    assert at is not None
+    assert pressure["value_at_deg"] == pytest.approx(float(at.group(1)), abs=5e-3)
+    assert rows["pressure_angle"][5] == at.group(1)
+    # a velocity step must be none: its limit 0 stays, and means it
+    assert checks[("continuity", "velocity")]["limit"] == 0.0
+    units = report["design_units"]
+    inputs = dict(re.findall(r"<tr><td>([^<]+)</td><td[^>]*>([^<]*)</td>",
+                             _section(page, "inputs")))
+    for key, value, unit in (("follower.mass", "0.35", "kg"), ("follower.stiffness", "600",
+                             "N/mm"), ("follower.roller_load_rating", "6200", "N"),
+                             ("spring.rate", "25", "N/mm"), ("spring.preload", "250", "N"),
+                             ("cam.speed_rpm", "1500", "rpm"), ("cam.base_radius", "30", "mm"),
+                             ("limits.contact_stress", "1200", "MPa"),
+                             ("limits.roller_life", "10000.0", "h")):
+        assert units[key] == unit, key
+        assert html.unescape(inputs[key]) == f"{value} {unit}", key
+    assert html.unescape(inputs["motion[0].angle"]) == "110°"
+    assert "follower.damping_ratio" not in units and inputs["follower.damping_ratio"] == "0.06"

@@ -220,13 +220,13 @@ def stress_finding(record: AtSpeed, limit: float) -> Finding:
     if value <= limit:
         return Finding("contact_stress", True, "error",
                        f"largest contact stress {fmt(value)} MPa {detail}, within the allowed "
-                       f"{fmt(limit)} MPa", value, limit, "MPa")
+                       f"{fmt(limit)} MPa", value, limit, "MPa", at_deg=at)
     over = ranges_deg(stress.theta, stress.stress > limit)
     return Finding("contact_stress", False, "error",
                    f"contact stress reaches {fmt(value)} MPa {detail}, over the allowed "
                    f"{fmt(limit)} MPa at {where(over)}: a flatter profile there (a larger cam), "
                    "a larger roller or face, a longer contact, a lighter load or a tougher "
-                   "material lowers it or bears it", value, limit, "MPa", over)
+                   "material lowers it or bears it", value, limit, "MPa", over, at_deg=at)
 
 
 def life_finding(analysis: Analysis, record: AtSpeed, limit: float) -> Finding:

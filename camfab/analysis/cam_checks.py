@@ -121,7 +121,8 @@ def pressure_angle_finding(design: Design, geom: DiscGeometry, numbers: CamNumbe
         if value == 0.0 and design.follower.type == "flat" and not design.follower.oscillating:
             message = "a flat face perpendicular to its motion has no pressure angle"
         return Finding("pressure_angle", True, "error",
-                       f"{message}, within the limit {fmt(limit)}°", value, limit, "deg")
+                       f"{message}, within the limit {fmt(limit)}°", value, limit, "deg",
+                       at_deg=worst.at_deg)
     k = int(np.argmax(np.abs(dense.pressure_angle)))
     kind = design.program.segments[int(dense.segment[k])].kind
     advice = f"a larger base radius or a longer {kind} lowers it"
@@ -135,7 +136,7 @@ def pressure_angle_finding(design: Design, geom: DiscGeometry, numbers: CamNumbe
         "pressure_angle", False, "error",
         f"pressure angle reaches {fmt(value)}° at {fmt(worst.at_deg or 0.0)}°, over the limit "
         f"{fmt(limit)}° at {where(over)}: {advice}",
-        value, limit, "deg", over)
+        value, limit, "deg", over, at_deg=worst.at_deg)
 
 
 def departure_words(numbers: CurveNumbers, what: str = "cam") -> str:
@@ -165,7 +166,7 @@ def undercut_finding(design: Design, geom: DiscGeometry, numbers: CamNumbers) ->
             return Finding("undercut", True, "error",
                            f"the profile's radius of curvature stays positive (smallest "
                            f"{fmt(value or 0.0)} mm at {fmt(worst.at_deg or 0.0)}°)",
-                           value, 0.0, "mm")
+                           value, 0.0, "mm", at_deg=worst.at_deg)
         need = ""
         if not fol.oscillating and value is not None:
             base = design.cam.base_radius or 0.0
@@ -184,7 +185,7 @@ def undercut_finding(design: Design, geom: DiscGeometry, numbers: CamNumbers) ->
         return Finding("undercut", True, "error",
                        f"the pitch curve's smallest convex radius {fmt(value or 0.0)} mm{at} "
                        f"is larger than the {shape} radius {fmt(radius)} mm", value, radius,
-                       "mm")
+                       "mm", at_deg=smallest.at_deg)
     what = "roller" if fol.type == "roller" else "mushroom face"
     if geom.folds.any() and value is not None:
         cause = (f"the {what} radius {fmt(radius)} mm exceeds the pitch curve's convex radius "
@@ -215,7 +216,8 @@ def curvature_finding(design: Design, geom: DiscGeometry, numbers: CamNumbers) -
                f"{fmt(smallest.at_deg or 0.0)}°, "
                + (f"at least {fmt(margin)} mm" if ok else
                   f"below the required {fmt(margin)} mm at {where(low)}"))
-    return Finding("curvature", ok, "error", message, value, margin, "mm", low)
+    return Finding("curvature", ok, "error", message, value, margin, "mm", low,
+                   at_deg=smallest.at_deg)
 
 
 def face_width_finding(design: Design, numbers: CamNumbers) -> Finding | None:

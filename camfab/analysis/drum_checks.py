@@ -66,13 +66,13 @@ def drum_pressure_finding(design: Design, dense: DrumDense, numbers: DrumNumbers
         return Finding("pressure_angle", True, "error",
                        f"largest pressure angle at the groove's floor {fmt(value)}° at "
                        f"{fmt(root.at_deg or 0.0)}° {also}, within the limit {fmt(limit)}°",
-                       value, limit, "deg")
+                       value, limit, "deg", at_deg=root.at_deg)
     return Finding(
         "pressure_angle", False, "error",
         f"pressure angle at the groove's floor reaches {fmt(value)}° at "
         f"{fmt(root.at_deg or 0.0)}° {also}, over the limit {fmt(limit)}° at {where(over)}: "
         f"the roller binds in the groove; a larger drum radius or a longer rise or return "
-        f"lowers it", value, limit, "deg", over)
+        f"lowers it", value, limit, "deg", over, at_deg=root.at_deg)
 
 
 def groove_finding(design: Design, dense: DrumDense, numbers: DrumNumbers) -> Finding:

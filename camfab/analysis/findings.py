@@ -42,6 +42,9 @@ class Finding:
     #: False when the check does not apply to this design (the message says why): neither
     #: passed nor failed, shown as "–" and written with ``ok`` null.
     applicable: bool = True
+    #: The cam angle (deg) where *value* is measured, where it is one place (the largest
+    #: pressure angle, the smallest radius of curvature): a passing check's "where".
+    at_deg: float | None = None
 
     @property
     def failed_error(self) -> bool:
@@ -61,6 +64,8 @@ class Finding:
         }
         if self.quantity is not None:
             out["quantity"] = self.quantity
+        if self.at_deg is not None:
+            out["value_at_deg"] = self.at_deg
         if not self.applicable:
             out["applicable"] = False
         return out

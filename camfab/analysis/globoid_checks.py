@@ -108,13 +108,13 @@ def pressure_finding(design: Design, dense: GloboidDense, numbers: GloboidNumber
     if not over:
         return Finding("pressure_angle", True, "error",
                        f"largest pressure angle along the roller's contact line {at}, within "
-                       f"the limit {fmt(limit)}°", value, limit, "deg")
+                       f"the limit {fmt(limit)}°", value, limit, "deg", at_deg=worst.at_deg)
     return Finding("pressure_angle", False, "error",
                    f"pressure angle along the roller's contact line reaches {at}, over the "
                    f"limit {fmt(limit)}° at {where(over)}: the roller binds in the groove; a "
                    "longer rise or return, or the roller's path farther from the cam axis (a "
                    "larger |pivot_distance − arm_length|), lowers it", value, limit, "deg",
-                   over)
+                   over, at_deg=worst.at_deg)
 
 
 def undercut_finding(dense: GloboidDense, numbers: GloboidNumbers) -> Finding:

@@ -137,12 +137,14 @@ def continuity_findings(program: MotionProgram, units: MotionUnits, omega: float
         name = ORDER_NAMES[order]
         mine = [s for s in steps if s.order == order]
         unit = units.unit(order, omega is not None)
+        # a step of the velocity or the acceleration must be none (0); a jerk step has no limit
+        limit = 0.0 if order in _FAILS else None
         if not mine:
             lower = [s for s in steps if s.order < order]
             message = (f"{name} is continuous at every joint" if not lower else
                        f"{name} has no steps besides the joints where "
                        f"{ORDER_NAMES[min(s.order for s in lower)]} steps")
-            findings.append(Finding("continuity", True, _SEVERITY[order], message, 0.0, 0.0,
+            findings.append(Finding("continuity", True, _SEVERITY[order], message, 0.0, limit,
                                     unit, quantity=name))
             continue
 
@@ -156,7 +158,7 @@ def continuity_findings(program: MotionProgram, units: MotionUnits, omega: float
                    f"{': ' + ringing if order == 3 else ''}")
         findings.append(Finding(
             "continuity", order not in _FAILS, _SEVERITY[order], message,
-            value=scaled(worst.size), limit=0.0, unit=unit,
+            value=scaled(worst.size), limit=limit, unit=unit,
             ranges_deg=tuple((degrees(s.angle), degrees(s.angle)) for s in mine),
             quantity=name,
         ))

@@ -85,14 +85,15 @@ def pressure_angle_finding(design: Design, geom: LinearGeometry,
     if not over:
         return Finding("pressure_angle", True, "error",
                        f"largest pressure angle {fmt(value)}° at {_at(stroke, worst.at_deg)}, "
-                       f"within the limit {fmt(limit)}°", value, limit, "deg")
+                       f"within the limit {fmt(limit)}°", value, limit, "deg",
+                       at_deg=worst.at_deg)
     slope = math.tan(design.pressure_angle_limit)
     return Finding(
         "pressure_angle", False, "error",
         f"pressure angle reaches {fmt(value)}° at {_at(stroke, worst.at_deg)}, over the limit "
         f"{fmt(limit)}° at {where_travel(stroke, over)}: tan φ = ds/dx, so a longer travel for "
         f"the rise or return lowers it (the slope must stay under {fmt(slope)})",
-        value, limit, "deg", over)
+        value, limit, "deg", over, at_deg=worst.at_deg)
 
 
 def undercut_finding(design: Design, geom: LinearGeometry, numbers: LinearNumbers) -> Finding:

@@ -100,6 +100,60 @@ def _model(model: BaseModel, design: Design,
     return out
 
 
+def _label(kind: Any, design: Design) -> str | None:
+    """The unit of a value of *kind* in :func:`design_record` (None: a pure number or text)."""
+    if kind == "lift":
+        kind = U.ANGLE if design.follower.oscillating else U.LENGTH
+    if kind is U.LENGTH:
+        return design.units
+    return {U.ANGLE: "deg", U.SPEED: "rpm", U.MASS: "kg", U.FORCE: "N", U.RATE: "N/mm",
+            U.DAMPING: "N·s/m", U.STRESS: "MPa", U.DURATION: "h"}.get(kind)
+
+
+def record_units(design: Design) -> dict[str, str]:
+    """The unit of every input of :func:`design_record` that has one, by its dotted key
+    (``follower.mass``, ``motion[0].lift``, ``materials.cam.E``): the design's length unit,
+    degrees, or the unit its key states."""
+    units = _units(design, design, "")
+    return {key: units[key] for key in _keys(design_record(design)) if key in units}
+
+
+def _keys(record: dict[str, Any], prefix: str = "") -> list[str]:
+    """The dotted keys of *record*'s values, nested sections ``a.b``, lists of them ``a[0].b``."""
+    out: list[str] = []
+    for key, value in record.items():
+        name = f"{prefix}{key}"
+        if isinstance(value, dict):
+            out += _keys(value, f"{name}.")
+        elif isinstance(value, list) and value and isinstance(value[0], dict):
+            for i, item in enumerate(value):
+                out += _keys(item, f"{name}[{i}].")
+        else:
+            out.append(name)
+    return out
+
+
+def _units(model: BaseModel, design: Design, prefix: str) -> dict[str, str]:
+    out: dict[str, str] = {}
+    for name in type(model).model_fields:
+        if name in _NOT_INPUTS:
+            continue
+        value, key = getattr(model, name), f"{prefix}{name}"
+        if isinstance(value, BaseModel):
+            out.update(_units(value, design, f"{key}."))
+        elif isinstance(value, tuple) and value and isinstance(value[0], BaseModel):
+            for i, item in enumerate(value):
+                out.update(_units(item, design, f"{key}[{i}]."))
+        elif name in _RATES:
+            base = "rad" if design.follower.oscillating else design.units
+            out[key] = f"{base}/rad{('', '', '²', '³')[_RATES[name]]}"
+        else:
+            unit = _label(_kind(type(model), name), design)
+            if unit is not None:
+                out[key] = unit
+    return out
+
+
 def design_record(design: Design) -> dict[str, Any]:
     """Every key of *design* that the design file takes for its cam type and follower
     (:func:`accepted_keys`), in the design's units."""

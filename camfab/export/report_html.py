@@ -45,7 +45,8 @@ def _findings(analysis: Analysis) -> list[dict[str, Any]]:
         rows.append({"id": label, "severity": f.severity, "row": row, "mark": f.mark,
                      "value": "" if f.value is None else f"{num(f.value)} {f.unit or ''}",
                      "limit": "" if f.limit is None else f"{num(f.limit)} {f.unit or ''}",
-                     "where": where(f.ranges_deg), "message": f.message})
+                     "where": where(f.ranges_deg) if f.ranges_deg or f.at_deg is None
+                     else where(((f.at_deg, f.at_deg),)), "message": f.message})
     return rows
 
 
@@ -155,7 +156,7 @@ def render_report_html(analysis: Analysis) -> bytes:
         vibration=_vibration_section(analysis, report["dynamics"]),
         verification=_verification(report),
         animation=animation_data(analysis), units=design.units,
-        inputs=_inputs(report["design"]),
+        inputs=_inputs(report["design"], report["design_units"]),
         lift_table=_lift_rows(report["lift_table"]))
     return page.encode("utf-8")
 
@@ -330,19 +331,24 @@ def column_label(key: str) -> str:
     return key.replace("_", " ")
 
 
-def _inputs(record: dict[str, Any], prefix: str = "") -> list[tuple[str, str]]:
-    """The design's every input as (key, value) rows, nested keys dotted."""
+def _inputs(record: dict[str, Any], units: dict[str, str],
+            prefix: str = "") -> list[tuple[str, str]]:
+    """The design's every input as (key, value) rows, nested keys dotted, each value with its
+    unit (*units*, by dotted key: the JSON's ``design_units``)."""
     rows: list[tuple[str, str]] = []
     for key, value in record.items():
         name = f"{prefix}{key}"
         if isinstance(value, dict):
-            rows += _inputs(value, f"{name}.")
+            rows += _inputs(value, units, f"{name}.")
         elif isinstance(value, list) and value and isinstance(value[0], dict):
             for i, item in enumerate(value):
-                rows += _inputs({k: v for k, v in item.items() if v is not None},
+                rows += _inputs({k: v for k, v in item.items() if v is not None}, units,
                                 f"{name}[{i}].")
         elif value is not None:
-            rows.append((name, show(value)))
+            unit = units.get(name)
+            shown = show(value)
+            rows.append((name, shown if unit is None else
+                         f"{shown}°" if unit == "deg" else f"{shown} {unit}"))
     return rows
 
 

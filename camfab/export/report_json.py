@@ -17,7 +17,7 @@ import numpy as np
 
 from camfab import __version__
 from camfab.analysis.findings import count
-from camfab.export.design_record import design_record, follower_record
+from camfab.export.design_record import design_record, follower_record, record_units
 
 if TYPE_CHECKING:
     from camfab.analysis.record import Analysis
@@ -38,6 +38,7 @@ def report_dict(analysis: Analysis) -> dict[str, Any]:
         "rotation": cam.rotation,
         "speed_rpm": cam.speed_rpm,
         "design": design_record(design),
+        "design_units": record_units(design),
         "follower": follower_record(design),
         "geometry": analysis.result.report_geometry(analysis),
         "sizing": sizing_dict(design),
