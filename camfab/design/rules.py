@@ -83,6 +83,7 @@ def check_rules(design: Design, sizing: frozenset[str] = frozenset()) -> None:
     _check_swinging_face(design, program)
     _check_manufacturing(design)
     _check_other(design)
+    _check_at_speed_ranges(design)
     _check_train(design)
     _check_at_speed(design)
     _check_size(design, program.max_lift)
@@ -366,6 +367,29 @@ def _check_other(design: Design) -> None:
     if spring is not None and spring.preload is not None and spring.initial_compression is not None:
         fail(("spring", "initial_compression"), "give either preload or initial_compression, "
              "not both", show_got=False)
+
+
+#: The least values of the keys of a cam at its speed, far below any real cam's and its
+#: follower's, yet where the follower train's and the rigid model's numbers stay finite (a
+#: follower of 1e-300 kg or a cam of 1e-300 rpm puts them past floating point): the speed, a
+#: turn in some 11.6 days (rpm); the follower's mass, a milligram (kg); the follower train's
+#: stiffness and the spring's rate, 1 N/m (N/mm); a roller bearing's load rating, a newton
+#: (N), where catalogues start at hundreds. Within them and the largest values each quantity
+#: takes (:mod:`camfab.design.units`), the follower train's natural frequency lies between
+#: 1e-8 and 1e13 times the cam's, all of which camfab computes.
+MIN_AT_SPEED = {("cam", "speed_rpm"): (1e-3, "rpm"), ("follower", "mass"): (1e-6, "kg"),
+                ("follower", "stiffness"): (1e-3, "N/mm"), ("spring", "rate"): (1e-3, "N/mm"),
+                ("follower", "roller_load_rating"): (1.0, "N")}
+
+
+def _check_at_speed_ranges(design: Design) -> None:
+    """Each key of the cam at its speed at least its least value (:data:`MIN_AT_SPEED`)."""
+    for (section, key), (least, unit) in MIN_AT_SPEED.items():
+        part = getattr(design, section)
+        value = None if part is None else getattr(part, key)
+        if value is not None and value < least:
+            fail((section, key), f"must be at least {least:g} {unit}: a smaller one is no real "
+                 "cam's, and its forces and vibration leave floating point")
 
 
 #: How near a whole number the undamped follower train's natural frequency may come to a
