@@ -14,6 +14,7 @@ Forces in N, stresses in MPa, lengths in mm, lives in hours.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
@@ -184,7 +185,8 @@ def dynamic_jump_finding(speed: float, shaken: Vibration) -> Finding:
                        f"{train} keeps contact at {speed:.5g} rpm: its contact force stays "
                        f"positive (least {least:.4g} N at {at:.4g}°); {first}", speed, jump,
                        "rpm")
-    lost = ranges_deg(shaken.theta, shaken.force_N < 0.0)
+    # the continuous response's trough may fall below zero between the grid's points
+    lost = ranges_deg(shaken.theta, shaken.force_N < 0.0) or ((at, at),)
     return Finding("dynamic_jump", False, "error",
                    f"{train} leaves the cam at {speed:.5g} rpm: its contact force falls to "
                    f"{least:.4g} N at {at:.4g}° (contact lost at {where(lost)}), although the "
@@ -203,9 +205,18 @@ def _first_words(shaken: Vibration, speed: float, holds: bool) -> str:
         return (f"it leaves the cam at every speed searched, from {jump:.5g} rpm (nothing "
                 "holds it in a dwell: more preload)")
     if holds and jump < speed:
-        return (f"it leaves the cam at lower speeds, first at {jump:.5g} rpm: a resonance the "
-                "cam runs through on its way to speed")
-    return f"it first leaves the cam at {jump:.5g} rpm"
+        return (f"it leaves the cam at lower speeds, first at {safe_rpm(jump)} rpm: a "
+                "resonance the cam runs through on its way to speed")
+    return f"it first leaves the cam at {safe_rpm(jump)} rpm"
+
+
+def safe_rpm(speed: float) -> str:
+    """A speed the follower must stay below (rpm), to five figures rounded down: never above
+    the speed it stands for."""
+    if not speed > 0.0 or math.isinf(speed):
+        return f"{speed:.5g}"
+    scale = 10.0 ** (4 - math.floor(math.log10(speed)))
+    return f"{math.floor(speed * scale) / scale:.5g}"
 
 
 def stress_finding(record: AtSpeed, limit: float) -> Finding:
