@@ -109,3 +109,41 @@ def test_the_dynamic_jump_speed_is_the_integrations_at_its_safe_end(case: str) -
     speed = design.cam.speed_rpm  # type: ignore[attr-defined]
     least = follower.least_elastic(speed)
     assert shaken.min_force_N == pytest.approx(least, rel=1e-7, abs=1e-7 * shaken.max_force_N)
+
+
+RIGID = {
+    "seed-jump-eccentric, damped": (DESIGNS / "seed-jump-eccentric.yaml").read_text().replace(
+        "  gravity: true", "  gravity: true\n  damping: 150"),
+    "cycloidal, damped and loaded": """\
+name: rigid
+cam: {type: disc, base_radius: 30, speed_rpm: 900}
+follower: {type: roller, roller_radius: 8, mass: 0.6}
+motion:
+  - rise:   {angle: 120, lift: 18, law: cycloidal}
+  - dwell:  {angle: 40}
+  - return: {angle: 110, law: polynomial-345}
+  - dwell:  {angle: 90}
+spring: {rate: 5, preload: 60, gravity: true, damping: 40, external_load: 15}
+""",
+}
+
+
+@pytest.mark.parametrize("case", sorted(RIGID))
+def test_the_rigid_jump_speed_is_where_the_reported_force_reaches_zero(case: str) -> None:
+    """The rigid model's jump speed and its contact force are one model, the spring's damping
+    in both: the reference's least force (its damping too) holds just below camfab's speed
+    and not just above, and the jump check at a speed either side agrees with it."""
+    design = design_from_text(RIGID[case], folder=DESIGNS)
+    dyn = analyse(design).dynamics  # type: ignore[union-attr]
+    assert dyn is not None and dyn.jump_speed_rpm is not None
+    jump = dyn.jump_speed_rpm
+    follower = Follower.of(design)
+    assert follower.least_rigid(jump * (1 - 1e-7)) >= 0.0
+    assert follower.least_rigid(jump * (1 + 1e-7)) < 0.0
+    true = bisect(follower.least_rigid, jump * (1 - 1e-7), jump * (1 + 1e-7), rel=1e-9)
+    assert jump == pytest.approx(true, rel=1e-7)
+    for share, holds in ((1 - 1e-6, True), (1 + 1e-6, False)):
+        text = re.sub(r"speed_rpm: \d+", f"speed_rpm: {jump * share!r}", RIGID[case])
+        at = analyse(design_from_text(text, folder=DESIGNS))
+        finding = next(f for f in at.findings if f.id == "jump")
+        assert finding.ok is holds and (at.dynamics.min_force_N >= 0.0) is holds  # type: ignore

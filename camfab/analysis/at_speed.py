@@ -14,7 +14,6 @@ Forces in N, stresses in MPa, lengths in mm, lives in hours.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
@@ -28,7 +27,7 @@ from camfab.analysis.contact import (
     contact_stress,
     roller_life,
 )
-from camfab.analysis.dynamics import STEP, trace_scale
+from camfab.analysis.dynamics import STEP, safe_rpm, trace_scale
 from camfab.analysis.elastic import Train
 from camfab.analysis.findings import Finding
 from camfab.angles import ranges_deg
@@ -209,14 +208,6 @@ def _first_words(shaken: Vibration, speed: float, holds: bool) -> str:
                 "resonance the cam runs through on its way to speed")
     return f"it first leaves the cam at {safe_rpm(jump)} rpm"
 
-
-def safe_rpm(speed: float) -> str:
-    """A speed the follower must stay below (rpm), to five figures rounded down: never above
-    the speed it stands for."""
-    if not speed > 0.0 or math.isinf(speed):
-        return f"{speed:.5g}"
-    scale = 10.0 ** (4 - math.floor(math.log10(speed)))
-    return f"{math.floor(speed * scale) / scale:.5g}"
 
 
 def stress_finding(record: AtSpeed, limit: float) -> Finding:
