@@ -124,12 +124,16 @@ def at_speed(analysis: Analysis) -> Analysis:
     """*analysis* with the cam at its speed (:class:`AtSpeed`) and the checks of it:
     ``dynamic_jump`` (an elastic, spring-held follower leaving the cam), ``contact_stress``
     (against ``limits.contact_stress``) and ``roller_life`` (against ``limits.roller_life``)."""
-    from camfab.analysis.vibration import vibration
+    from camfab.analysis.vibration import resonance_note, train_of, vibration
 
     design = analysis.design
     held_by_spring = design.spring is not None
     _, theta, motion = analysis.program.segment_grid(STEP)
     missing = force_note(design, held_by_spring, design.cam.spec.two_sided)
+    resonant = None
+    if missing is None:
+        train = train_of(design, held_by_spring)
+        resonant = missing = None if train is None else resonance_note(design, train)
     force = shaken = contact = None
     if missing is None:
         contact = analysis.result.contact(analysis)
@@ -154,13 +158,17 @@ def at_speed(analysis: Analysis) -> Analysis:
     record = AtSpeed(contact, theta, force, held_by_spring, shaken, stress, life, missing,
                      None if stress is not None else stress_note,
                      None if life is not None else life_note)
-    findings = [*analysis.findings, *_findings(analysis, record)]
+    findings = [*analysis.findings, *_findings(analysis, record, resonant)]
     return replace(analysis, at_speed=record, findings=findings)
 
 
-def _findings(analysis: Analysis, record: AtSpeed) -> list[Finding]:
+def _findings(analysis: Analysis, record: AtSpeed, resonant: str | None) -> list[Finding]:
     out = []
     shaken = record.vibration
+    if resonant is not None:
+        out.append(Finding("train_vibration", False, "error", resonant))
+    if shaken is not None:
+        out.append(train_vibration_finding(analysis, shaken))
     if shaken is not None and shaken.one_sided:
         out.append(dynamic_jump_finding(analysis.design.cam.speed_rpm or 0.0, shaken))
     limits = analysis.design.limits
@@ -169,6 +177,29 @@ def _findings(analysis: Analysis, record: AtSpeed) -> list[Finding]:
     if limits.roller_life is not None:
         out.append(life_finding(analysis, record, limits.roller_life))
     return out
+
+
+def train_vibration_finding(analysis: Analysis, shaken: Vibration) -> Finding:
+    """The elastic train's vibration about its compression against the follower's whole lift
+    (at the trace point): a train that rings more than the cam moves it is nowhere near rigid
+    (a resonance with little damping), an error whatever else holds."""
+    lift = float(np.ptp(analysis.program.segment_grid(STEP)[2][0])) * shaken.trace_m * 1000.0
+    ringing = shaken.max_ringing_m * 1000.0
+    train = (f"natural frequency {shaken.natural_Hz:.4g} Hz, {shaken.frequency_ratio:.4g} times "
+             f"the cam's, damping ratio {shaken.train.total_zeta:.3g}")
+    if ringing <= lift:
+        return Finding("train_vibration", True, "error",
+                       f"the follower train vibrates at most {fmt(ringing)} mm about its "
+                       f"compression, within the follower's lift of {fmt(lift)} mm ({train})",
+                       ringing, lift, "mm")
+    return Finding("train_vibration", False, "error",
+                   f"the follower train vibrates up to {fmt(ringing)} mm about its compression "
+                   f"at {fmt(shaken.speed_rpm)} rpm, more than the follower's whole lift of "
+                   f"{fmt(lift)} mm: it is nowhere near rigid ({train}); a stiffer train or a "
+                   "lighter follower (a higher natural frequency), more damping "
+                   "(follower.damping_ratio), or a speed at which no strong harmonic of the "
+                   "motion meets the natural frequency keeps it a cam follower", ringing, lift,
+                   "mm")
 
 
 def dynamic_jump_finding(speed: float, shaken: Vibration) -> Finding:

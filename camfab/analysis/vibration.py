@@ -12,6 +12,7 @@ their units.
 
 from __future__ import annotations
 
+import cmath
 import math
 from dataclasses import dataclass
 
@@ -160,6 +161,44 @@ class Vibration:
 
 def _deg(theta: float) -> float:
     return round(math.degrees(float(theta)), 9) + 0.0
+
+
+#: The most turns' ringing the train's periodic state may add up, 1/|1 − e^{λT}| (λ the train's
+#: exponent in τ, T the turn's length): near a resonance with little damping it grows as
+#: 1/(2π ζ_t f_n/f) (a whole multiple) or 1/δ (δ the phase the turn misses one by), and with it
+#: the steady state and the rounding of e^{λT}, some 1e-16 of the turn's phase. Beyond this the
+#: state is not computable to 1e-6, and the train is nothing like a cam follower: refused.
+BUILD_UP_LIMIT = 1e6
+
+
+def build_up(train: Train, omega: float) -> float:
+    """1/|1 − e^{λT}| of the *train* at the cam speed *omega* (rad/s): over how many turns its
+    ringing adds up in the periodic state (inf exactly at an undamped resonance)."""
+    q = train.natural / omega
+    zeta = train.total_zeta
+    turn = complex(-zeta, math.sqrt(max(1.0 - zeta * zeta, 0.0))) * (2.0 * math.pi * q)
+    gap = abs(1.0 - cmath.exp(turn))
+    return math.inf if gap == 0.0 else 1.0 / gap
+
+
+def resonance_note(design: Design, train: Train) -> str | None:
+    """Why the periodic state of the *train* at the design's speed is not computed (its
+    ringing adds up over more than :data:`BUILD_UP_LIMIT` turns: a resonance with next to no
+    damping), in words with what to change; None where it is."""
+    omega = design.cam.omega
+    assert omega is not None
+    turns = build_up(train, omega)
+    if turns <= BUILD_UP_LIMIT:
+        return None
+    ratio = train.natural / omega
+    return (f"the follower train resonates with the cam at {design.cam.speed_rpm:.6g} rpm: its "
+            f"natural frequency is {ratio:.6g} times the cam's turning frequency and its "
+            f"damping ratio {train.total_zeta:.3g} lets its ringing add up over some "
+            f"{min(turns, 1e300):.2g} turns, so its vibration, forces and stress have no value "
+            "camfab can give (a train that far from rigid is no cam follower); raise "
+            "follower.damping_ratio (0.02–0.1 is usual), or change follower.stiffness, "
+            "follower.mass or cam.speed_rpm so that the natural frequency lies between two "
+            "whole multiples of the cam's")
 
 
 def spring_load(design: Design) -> float:
