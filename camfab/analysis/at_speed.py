@@ -158,17 +158,19 @@ def at_speed(analysis: Analysis) -> Analysis:
     record = AtSpeed(contact, theta, force, held_by_spring, shaken, stress, life, missing,
                      None if stress is not None else stress_note,
                      None if life is not None else life_note)
-    findings = [*analysis.findings, *_findings(analysis, record, resonant)]
+    lift = float(np.ptp(motion[0]))
+    findings = [*analysis.findings, *_findings(analysis, record, resonant, lift)]
     return replace(analysis, at_speed=record, findings=findings)
 
 
-def _findings(analysis: Analysis, record: AtSpeed, resonant: str | None) -> list[Finding]:
+def _findings(analysis: Analysis, record: AtSpeed, resonant: str | None,
+              lift: float) -> list[Finding]:
     out = []
     shaken = record.vibration
     if resonant is not None:
         out.append(Finding("train_vibration", False, "error", resonant))
     if shaken is not None:
-        out.append(train_vibration_finding(analysis, shaken))
+        out.append(train_vibration_finding(shaken, lift))
     if shaken is not None and shaken.one_sided:
         out.append(dynamic_jump_finding(analysis.design.cam.speed_rpm or 0.0, shaken))
     limits = analysis.design.limits
@@ -179,11 +181,12 @@ def _findings(analysis: Analysis, record: AtSpeed, resonant: str | None) -> list
     return out
 
 
-def train_vibration_finding(analysis: Analysis, shaken: Vibration) -> Finding:
-    """The elastic train's vibration about its compression against the follower's whole lift
-    (at the trace point): a train that rings more than the cam moves it is nowhere near rigid
-    (a resonance with little damping), an error whatever else holds."""
-    lift = float(np.ptp(analysis.program.segment_grid(STEP)[2][0])) * shaken.trace_m * 1000.0
+def train_vibration_finding(shaken: Vibration, lift: float) -> Finding:
+    """The elastic train's vibration about its compression against the follower's whole
+    *lift* (mm, or rad of an arm's swing; taken at the trace point): a train that rings more
+    than the cam moves it is nowhere near rigid (a resonance with little damping), an error
+    whatever else holds."""
+    lift = lift * shaken.trace_m * 1000.0
     ringing = shaken.max_ringing_m * 1000.0
     train = (f"natural frequency {shaken.natural_Hz:.4g} Hz, {shaken.frequency_ratio:.4g} times "
              f"the cam's, damping ratio {shaken.train.total_zeta:.3g}")

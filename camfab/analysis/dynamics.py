@@ -109,9 +109,11 @@ def dynamics(design: Design, program: MotionProgram) -> Dynamics | None:
     roots = _loss_speed(mass, damping, static, ds, dds)
     jump = jump_at = None
     if np.isfinite(roots).any():
-        least, where = _least_along(program, segment, theta, roots, lambda i, t: _loss_speed(
-            mass, damping, preload + k * motion_at(i, t)[0] + load + weight,
-            *motion_at(i, t)[1:3]))
+        def roots_at(i: Array, t: Array) -> Array:
+            lift, rate, accel = motion_at(i, t)[:3]
+            return _loss_speed(mass, damping, preload + k * lift + load + weight, rate, accel)
+
+        least, where = _least_along(program, segment, theta, roots, roots_at)
         jump, jump_at = max(least, 0.0), math.degrees(where)
     force = torque = None
     required = min_force = min_at = max_force = max_torque = None

@@ -79,12 +79,15 @@ class Train:
 @dataclass(frozen=True)
 class Response:
     """The periodic steady state on the grid: the dynamic error e = x − s (m), its rate de/dθ
-    (m/rad) and the contact force F_c (N) at each grid angle (rad)."""
+    (m/rad) and the contact force F_c (N) at each grid angle (rad); the least contact force of
+    the continuous response (N) and its cam angle (rad)."""
 
     theta: Array
     error: Array
     error_rate: Array
     force: Array
+    least: float = math.nan
+    least_at: float = math.nan
 
 
 def rigid_force(train: Train, omega: float, motion: Array) -> tuple[Array, Array]:
@@ -192,10 +195,16 @@ def periodic_response(train: Train, omega: Array | float, theta: Array, force: A
 #: on the force's exact derivative.
 SUB_STEP = 0.5
 NEWTON = 6
+#: At most this many samples a step, and this many at once (a stiff train's long steps on a
+#: coarse grid take many).
+MOST_SAMPLES = 4096
+CHUNK = 1_000_000
 
 
 def least_force(train: Train, omega: Array | float, theta: Array, force: Array, rate: Array,
-                floor: float = math.inf) -> tuple[Array, Array]:
+                floor: float = math.inf,
+                modes: tuple[Array, Array, complex, Array, Array] | None = None
+                ) -> tuple[Array, Array]:
     """The least contact force (N) over the turn of the continuous periodic response — not of
     its grid values alone: the trough of the train's ringing may fall between them — and the
     cam angle (rad) where it lies, at the cam speeds *omega* (the arguments as for
@@ -210,8 +219,9 @@ def least_force(train: Train, omega: Array | float, theta: Array, force: Array, 
 
     With a finite *floor* (N) the answer is exact only as far as it decides the comparison
     with it: a speed whose grid already falls below *floor* is not refined, and elsewhere only
-    the steps that might fall below *floor* are."""
-    w, q, lam, u, du = _modes(train, omega, theta, force, rate)
+    the steps that might fall below *floor* are. *modes*: :func:`_modes` of these arguments,
+    where already computed."""
+    w, q, lam, u, du = modes or _modes(train, omega, theta, force, rate)
     batch = w.ndim > 1
     w, u, du = np.atleast_2d(w), np.atleast_2d(u), np.atleast_2d(du)
     q = np.broadcast_to(np.asarray(q, dtype=np.float64).reshape(-1, 1), (w.shape[0], 1))
@@ -243,11 +253,15 @@ def least_force(train: Train, omega: Array | float, theta: Array, force: Array, 
     curve = 2.0 * abs(kappa) * (np.abs(c) + np.maximum(np.abs(2.0 * p2),
                                                        np.abs(2.0 * p2 + 6.0 * p3 * h)))
     bound = np.minimum(grid[:, :-1], grid[:, 1:]) - h * h / 8.0 * curve
-    pick = inside & (bound < threshold[:, None])
-    row, step = np.nonzero(pick)
-    if row.size:
+    pick = inside & (bound < threshold[:, None]) & np.isfinite(h)
+    rows_all, steps_all = np.nonzero(pick)
+    longest = float(np.max(h[pick], initial=0.0))
+    count = min(max(1, math.ceil(longest / SUB_STEP)), MOST_SAMPLES)
+    chunk = max(1, CHUNK // (count + 1))
+    for first_row in range(0, rows_all.size, chunk):
+        row = rows_all[first_row:first_row + chunk]
+        step = steps_all[first_row:first_row + chunk]
         span = h[row, step]
-        count = max(1, math.ceil(float(np.max(span)) / SUB_STEP))
         fraction = np.linspace(0.0, 1.0, count + 1)
         tau = span[:, None] * fraction[None, :]
         low = span[:, None] * np.concatenate(([0.0], fraction[:-1]))[None, :]
@@ -289,7 +303,13 @@ def contact_force(train: Train, omega: Array | float, error: Array,
 
 def respond(train: Train, omega: float, theta: Array, motion: Array) -> Response:
     """The periodic response at the cam speed *omega* (rad/s) to the *motion* (s … s‴ in m
-    and per radian, (4, N)) on the grid *theta* (rad)."""
+    and per radian, (4, N)) on the grid *theta* (rad), with its least contact force between
+    the grid's points too (:func:`least_force`)."""
     force, rate = rigid_force(train, omega, motion)
-    error, error_rate = periodic_response(train, omega, theta, force, rate)
-    return Response(theta, error, error_rate, contact_force(train, omega, error, error_rate))
+    modes = _modes(train, omega, theta, force, rate)
+    w, q, lam = modes[:3]
+    error, error_rate = 2.0 * w.real, 2.0 * (lam * w).real * q
+    with np.errstate(all="ignore"):
+        least, least_at = least_force(train, omega, theta, force, rate, modes=modes)
+    return Response(theta, error, error_rate, contact_force(train, omega, error, error_rate),
+                    float(least), float(least_at))

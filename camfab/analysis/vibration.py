@@ -237,8 +237,7 @@ def vibration(design: Design, program: MotionProgram, held_by_spring: bool, two_
     scale = trace_scale(design)
     segment, theta, motion = program.segment_grid(step)
     response = respond(train, omega, theta, motion * scale)
-    rigid, rate = rigid_force(train, omega, motion * scale)
-    least, least_at = least_force(train, omega, theta, rigid, rate)
+    rigid, _ = rigid_force(train, omega, motion * scale)
     dwells = tuple(Dwell(seg.index, _deg(seg.start), _deg(seg.end),
                          float(np.ptp(response.error[segment == seg.index])))
                    for seg in program.segments if seg.kind == "dwell")
@@ -254,8 +253,8 @@ def vibration(design: Design, program: MotionProgram, held_by_spring: bool, two_
     return Vibration(train, speed, theta, segment, response.error,
                      -rigid / train.total_stiffness, response.force, rigid, not two_sided,
                      dwells, search.speed_rpm, search.low_rpm, search.high_rpm,
-                     search.every_speed, changes, harmonics, amplitudes, scale, float(least),
-                     float(least_at))
+                     search.every_speed, changes, harmonics, amplitudes, scale, response.least,
+                     response.least_at)
 
 
 @dataclass(frozen=True)
