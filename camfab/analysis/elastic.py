@@ -252,7 +252,12 @@ def least_force(train: Train, omega: Array | float, theta: Array, force: Array, 
     c = w[:, :-1] - p0
     curve = 2.0 * abs(kappa) * (np.abs(c) + np.maximum(np.abs(2.0 * p2),
                                                        np.abs(2.0 * p2 + 6.0 * p3 * h)))
-    bound = np.minimum(grid[:, :-1], grid[:, 1:]) - h * h / 8.0 * curve
+    # the dip below the ends, or (a step many periods long) the cubic's least less the ringing
+    with np.errstate(all="ignore"):
+        dip = np.minimum(grid[:, :-1], grid[:, 1:]) - h * h / 8.0 * curve
+        ring = _cubic_least([-2.0 * (kappa * coefficient).real for coefficient in
+                             (p0, p1, p2, p3)], h) - 2.0 * abs(kappa) * np.abs(c)
+    bound = np.where(np.isnan(ring), dip, np.maximum(dip, ring))
     pick = inside & (bound < threshold[:, None]) & np.isfinite(h)
     rows_all, steps_all = np.nonzero(pick)
     longest = float(np.max(h[pick], initial=0.0))
@@ -289,6 +294,24 @@ def least_force(train: Train, omega: Array | float, theta: Array, force: Array, 
     if not batch:
         return best[0], where[0]
     return best, where
+
+
+def _cubic_least(r: list[Array], h: Array) -> Array:
+    """The least of the real cubic Σ rⱼτʲ over [0, *h*] (at the ends or where its derivative
+    3r₃τ² + 2r₂τ + r₁ vanishes inside), less a rounding's worth of its coefficients."""
+    r0, r1, r2, r3 = r
+
+    def value(t: Array) -> Array:
+        return r0 + t * (r1 + t * (r2 + t * r3))
+
+    least = np.minimum(value(np.zeros_like(h)), value(h))
+    disc = np.sqrt(np.maximum(r2 * r2 - 3.0 * r3 * r1, 0.0))
+    big = -(r2 + np.where(r2 >= 0.0, disc, -disc))  # the root's larger part, without cancelling
+    for root in (big / (3.0 * r3), r1 / big):
+        inside = np.isfinite(root) & (root > 0.0) & (root < h)
+        least = np.where(inside, np.minimum(least, value(np.where(inside, root, 0.0))), least)
+    scale = np.abs(r0) + h * (np.abs(r1) + h * (np.abs(r2) + h * np.abs(r3)))
+    return least - 1e-12 * scale
 
 
 def contact_force(train: Train, omega: Array | float, error: Array,
