@@ -217,3 +217,44 @@ def _wall_radius(surface, theta: float, axis: np.ndarray, radial: np.ndarray, r:
     if along(low) * along(high) > 0:
         return None
     return float(brentq(along, low, high, xtol=1e-12))
+
+
+@pytest.mark.parametrize("name", ["demo-cylindrical", "demo-drum-steep"])
+def test_a_drums_normal_force_is_the_mean_over_its_contact_line(name: str) -> None:
+    """The force along the motion balances the normal force's axial parts along the contact
+    line, the load spread evenly from the groove's floor to the drum's surface:
+    F = F_n·mean_r cos φ(r), tan φ = s′/r. The mean against an independent quadrature of the
+    pressure angle's cosine (scipy's adaptive quad, to 1e-13), at every cam angle to 1e-9."""
+    from scipy.integrate import quad
+
+    analysis = analyse(_with(name))
+    dense = analysis.result.drum
+    d = dense.drum
+    contact = analysis.result.contact(analysis)
+    for k in range(0, dense.theta.size, 97):
+        ds = float(dense.motion[1, k])
+        mean = quad(lambda r, ds=ds: math.cos(math.atan2(ds, r)), d.root, d.radius,
+                    epsabs=0.0, epsrel=1e-13)[0] / (d.radius - d.root)
+        for side in contact.sides:
+            assert side.normal[k] == pytest.approx(1.0 / mean, rel=1e-9)
+
+
+@pytest.mark.parametrize("name", ["demo-globoidal-convex", "demo-globoidal-concave"])
+def test_a_globoids_normal_force_is_the_mean_lever_along_its_roller(name: str) -> None:
+    """F·L = F_n·mean_ℓ(ℓ cos α(ℓ)), the load spread evenly along the roller inside the
+    groove: the mean against scipy's adaptive quad (to 1e-13) of the pressure angle along the
+    roller, at every cam angle to 1e-9."""
+    from scipy.integrate import quad
+
+    analysis = analyse(_with(name))
+    dense = analysis.result.globoid
+    g = dense.blank.follower
+    contact = analysis.result.contact(analysis)
+    inner, outer = float(dense.ells[0]), float(dense.ells[-1])
+    for k in range(0, dense.theta.size, 211):
+        psi, dpsi = g.rest + float(dense.motion[0, k]), float(dense.motion[1, k])
+        mean = quad(lambda ell, psi=psi, dpsi=dpsi: ell * math.cos(float(g.pressure_angle(
+            np.array(ell), np.array(psi), np.array(dpsi)))), inner, outer, epsabs=0.0,
+                    epsrel=1e-13)[0] / (outer - inner)
+        for side in contact.sides:
+            assert side.normal[k] == pytest.approx(g.arm / mean, rel=1e-9)

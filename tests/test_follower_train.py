@@ -327,3 +327,58 @@ def test_a_follower_with_nothing_holding_it_in_a_dwell_leaves_at_every_speed() -
     assert shaken.jump_speed_rpm == pytest.approx(0.02 * 600)
     finding = next(f for f in analysis.findings if f.id == "dynamic_jump")
     assert "at every speed searched" in finding.message
+
+
+def _globoid_at_resonance(zeta: str) -> object:
+    """The convex globoid demo with an elastic arm whose natural frequency is the cam's own
+    (a 0.5 kg follower on a train of m(2π·1 Hz)² at 60 rpm)."""
+    from .conftest import DESIGNS
+
+    stiffness = 0.5 * (2 * math.pi) ** 2 / 1000.0
+    text = (DESIGNS / "demo-globoidal-convex.yaml").read_text().replace(
+        "  rest_angle: -10\n", f"  rest_angle: -10\n  mass: 0.5\n  stiffness: {stiffness!r}\n"
+        f"  damping_ratio: {zeta}\n")
+    return design_from_text(text, folder=DESIGNS)
+
+
+@pytest.mark.parametrize("zeta", ["1e-15", "1e-300"])
+def test_a_train_resonating_with_next_to_no_damping_is_an_error_without_numbers(
+        zeta: str) -> None:
+    """At a resonance with ζ = 1e-15 or 1e-300 the ringing adds up over some 1e14 turns or
+    more: no steady state camfab can compute (the rounding of the turn's phase decides it), so
+    the build fails on `train_vibration`, saying what to change, and gives no vibration, force
+    or stress (it used to pass with 1e14 mm, the same for both)."""
+    from camfab.export.report_json import at_speed_dict
+
+    analysis = analyse(_globoid_at_resonance(zeta))
+    assert analysis.exit_code == 1
+    finding = next(f for f in analysis.findings if f.id == "train_vibration")
+    assert not finding.ok and finding.severity == "error"
+    for key in ("damping_ratio", "stiffness", "mass", "speed_rpm", "resonates"):
+        assert key in finding.message
+    speed = analysis.at_speed  # type: ignore[union-attr]
+    assert speed.vibration is None and speed.force_N is None and speed.stress is None
+    dynamics = at_speed_dict(analysis)
+    assert dynamics["natural_frequency_Hz"] is None and dynamics["dynamic_error_max_mm"] is None
+    assert "resonates" in dynamics["vibration_note"]
+
+
+def test_a_train_far_from_rigid_is_an_error_with_its_numbers() -> None:
+    """With ζ = 1e-3 at the same resonance the state is computable, and right: the first
+    harmonic's steady response, a₁/(2ζω_n²) (a₁ the trace point's first harmonic of
+    acceleration, from an FFT of the motion here), is the vibration, some 280 times the follower's
+    lift: an error, with the numbers."""
+    design = _globoid_at_resonance("1e-3")
+    analysis = analyse(design)
+    shaken = analysis.at_speed.vibration  # type: ignore[union-attr]
+    assert shaken is not None and analysis.exit_code == 1
+    finding = next(f for f in analysis.findings if f.id == "train_vibration")
+    assert not finding.ok and finding.value == pytest.approx(1000 * shaken.max_ringing_m)
+    omega = 2 * math.pi  # 60 rpm
+    theta = np.linspace(0, 2 * math.pi, 4096, endpoint=False)
+    accel = design.program.evaluate(theta)[2] * 0.110 * omega**2  # type: ignore[attr-defined]
+    first = 2 * abs(np.fft.rfft(accel)[1]) / theta.size
+    expected = first / (2 * 1e-3 * omega**2)
+    assert shaken.max_ringing_m == pytest.approx(expected, rel=3e-3)
+    lift = math.radians(25) * 0.110
+    assert shaken.max_ringing_m > 100 * lift

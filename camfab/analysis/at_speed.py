@@ -27,7 +27,7 @@ from camfab.analysis.contact import (
     contact_stress,
     roller_life,
 )
-from camfab.analysis.dynamics import STEP, trace_scale
+from camfab.analysis.dynamics import STEP, safe_rpm, trace_scale
 from camfab.analysis.elastic import Train
 from camfab.analysis.findings import Finding
 from camfab.angles import ranges_deg
@@ -124,12 +124,16 @@ def at_speed(analysis: Analysis) -> Analysis:
     """*analysis* with the cam at its speed (:class:`AtSpeed`) and the checks of it:
     ``dynamic_jump`` (an elastic, spring-held follower leaving the cam), ``contact_stress``
     (against ``limits.contact_stress``) and ``roller_life`` (against ``limits.roller_life``)."""
-    from camfab.analysis.vibration import vibration
+    from camfab.analysis.vibration import resonance_note, train_of, vibration
 
     design = analysis.design
     held_by_spring = design.spring is not None
     _, theta, motion = analysis.program.segment_grid(STEP)
     missing = force_note(design, held_by_spring, design.cam.spec.two_sided)
+    resonant = None
+    if missing is None:
+        train = train_of(design, held_by_spring)
+        resonant = missing = None if train is None else resonance_note(design, train)
     force = shaken = contact = None
     if missing is None:
         contact = analysis.result.contact(analysis)
@@ -154,13 +158,19 @@ def at_speed(analysis: Analysis) -> Analysis:
     record = AtSpeed(contact, theta, force, held_by_spring, shaken, stress, life, missing,
                      None if stress is not None else stress_note,
                      None if life is not None else life_note)
-    findings = [*analysis.findings, *_findings(analysis, record)]
+    lift = float(np.ptp(motion[0]))
+    findings = [*analysis.findings, *_findings(analysis, record, resonant, lift)]
     return replace(analysis, at_speed=record, findings=findings)
 
 
-def _findings(analysis: Analysis, record: AtSpeed) -> list[Finding]:
+def _findings(analysis: Analysis, record: AtSpeed, resonant: str | None,
+              lift: float) -> list[Finding]:
     out = []
     shaken = record.vibration
+    if resonant is not None:
+        out.append(Finding("train_vibration", False, "error", resonant))
+    if shaken is not None:
+        out.append(train_vibration_finding(shaken, lift))
     if shaken is not None and shaken.one_sided:
         out.append(dynamic_jump_finding(analysis.design.cam.speed_rpm or 0.0, shaken))
     limits = analysis.design.limits
@@ -169,6 +179,30 @@ def _findings(analysis: Analysis, record: AtSpeed) -> list[Finding]:
     if limits.roller_life is not None:
         out.append(life_finding(analysis, record, limits.roller_life))
     return out
+
+
+def train_vibration_finding(shaken: Vibration, lift: float) -> Finding:
+    """The elastic train's vibration about its compression against the follower's whole
+    *lift* (mm, or rad of an arm's swing; taken at the trace point): a train that rings more
+    than the cam moves it is nowhere near rigid (a resonance with little damping), an error
+    whatever else holds."""
+    lift = lift * shaken.trace_m * 1000.0
+    ringing = shaken.max_ringing_m * 1000.0
+    train = (f"natural frequency {shaken.natural_Hz:.4g} Hz, {shaken.frequency_ratio:.4g} times "
+             f"the cam's, damping ratio {shaken.train.total_zeta:.3g}")
+    if ringing <= lift:
+        return Finding("train_vibration", True, "error",
+                       f"the follower train vibrates at most {fmt(ringing)} mm about its "
+                       f"compression, within the follower's lift of {fmt(lift)} mm ({train})",
+                       ringing, lift, "mm")
+    return Finding("train_vibration", False, "error",
+                   f"the follower train vibrates up to {fmt(ringing)} mm about its compression "
+                   f"at {fmt(shaken.speed_rpm)} rpm, more than the follower's whole lift of "
+                   f"{fmt(lift)} mm: it is nowhere near rigid ({train}); a stiffer train or a "
+                   "lighter follower (a higher natural frequency), more damping "
+                   "(follower.damping_ratio), or a speed at which no strong harmonic of the "
+                   "motion meets the natural frequency keeps it a cam follower", ringing, lift,
+                   "mm")
 
 
 def dynamic_jump_finding(speed: float, shaken: Vibration) -> Finding:
@@ -184,7 +218,8 @@ def dynamic_jump_finding(speed: float, shaken: Vibration) -> Finding:
                        f"{train} keeps contact at {speed:.5g} rpm: its contact force stays "
                        f"positive (least {least:.4g} N at {at:.4g}°); {first}", speed, jump,
                        "rpm")
-    lost = ranges_deg(shaken.theta, shaken.force_N < 0.0)
+    # the continuous response's trough may fall below zero between the grid's points
+    lost = ranges_deg(shaken.theta, shaken.force_N < 0.0) or ((at, at),)
     return Finding("dynamic_jump", False, "error",
                    f"{train} leaves the cam at {speed:.5g} rpm: its contact force falls to "
                    f"{least:.4g} N at {at:.4g}° (contact lost at {where(lost)}), although the "
@@ -203,9 +238,10 @@ def _first_words(shaken: Vibration, speed: float, holds: bool) -> str:
         return (f"it leaves the cam at every speed searched, from {jump:.5g} rpm (nothing "
                 "holds it in a dwell: more preload)")
     if holds and jump < speed:
-        return (f"it leaves the cam at lower speeds, first at {jump:.5g} rpm: a resonance the "
-                "cam runs through on its way to speed")
-    return f"it first leaves the cam at {jump:.5g} rpm"
+        return (f"it leaves the cam at lower speeds, first at {safe_rpm(jump)} rpm: a "
+                "resonance the cam runs through on its way to speed")
+    return f"it first leaves the cam at {safe_rpm(jump)} rpm"
+
 
 
 def stress_finding(record: AtSpeed, limit: float) -> Finding:

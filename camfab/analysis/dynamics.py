@@ -6,8 +6,9 @@ the follower above the cam). Along the follower's motion, compression positive:
 
     F(θ) = m ω² s″ + c ω s′ + k(δ₀ + s) + F_ext (+ m g)
 
-Contact needs F ≥ 0 everywhere. The follower jumps off the cam (undamped) above
-ω_j² = min over s″ < 0 of (k(δ₀ + s) + F_ext (+ m g)) / (−m s″); the preload needed at the design
+Contact needs F ≥ 0 everywhere. The follower jumps off the cam above the least speed at which
+that same F first reaches zero somewhere (the least positive root in ω, over the cam; undamped,
+ω_j² = min over s″ < 0 of (k(δ₀ + s) + F_ext (+ m g)) / (−m s″)); the preload needed at the design
 speed is max[−m ω² s″ − c ω s′ − k s − F_ext (− m g)], and the camshaft torque without friction
 is T = F s′. The spring force that keeps the follower on the cam at the design speed must reach
 max[−m ω² s″ − c ω s′ − F_ext (− m g)] where that is largest: a follower mass and a speed alone
@@ -19,6 +20,7 @@ SI units throughout: N, m, rad/s, N·m.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -80,7 +82,6 @@ def dynamics(design: Design, program: MotionProgram) -> Dynamics | None:
     if mass is None or (spring is None and omega is None):
         return None
     segment, theta, m = program.segment_grid(STEP)
-    del segment
     scale = trace_scale(design)
     s, ds, dds = m[0] * scale, m[1] * scale, m[2] * scale  # m, m/rad, m/rad²
     damping, load = (0.0, 0.0) if spring is None else (spring.damping, spring.external_load)
@@ -99,21 +100,34 @@ def dynamics(design: Design, program: MotionProgram) -> Dynamics | None:
     preload = spring.preload if spring.preload is not None else k * (
         (spring.initial_compression or 0.0) / 1000.0)
     static = preload + k * s + load + weight
-    # jump: the speed at which inertia first overcomes the holding force, where s″ < 0
-    falling = dds < 0.0
+
+    def motion_at(index: Array, t: Array) -> Array:
+        return program.evaluate_local(index, t) * scale
+
+    # jump: the least speed at which the force, inertia and damping with the holding force,
+    # first reaches zero somewhere on the cam
+    roots = _loss_speed(mass, damping, static, ds, dds)
     jump = jump_at = None
-    if falling.any():
-        ratio = static[falling] / (-mass * dds[falling])
-        index = int(np.argmin(ratio))
-        jump = math.sqrt(max(float(ratio[index]), 0.0))
-        jump_at = math.degrees(float(theta[falling][index]))
+    if np.isfinite(roots).any():
+        def roots_at(i: Array, t: Array) -> Array:
+            lift, rate, accel = motion_at(i, t)[:3]
+            return _loss_speed(mass, damping, preload + k * lift + load + weight, rate, accel)
+
+        least, where = _least_along(program, segment, theta, roots, roots_at)
+        jump, jump_at = max(least, 0.0), math.degrees(where)
     force = torque = None
     required = min_force = min_at = max_force = max_torque = None
     if pull is not None:
         force = preload + k * s - pull  # = m ω² s″ + c ω s′ + static
         torque = force * ds
-        worst = int(np.argmin(force))
-        min_force, min_at = float(force[worst]), math.degrees(float(theta[worst]))
+
+        def force_at(i: Array, t: Array) -> Array:
+            lift, rate, accel = motion_at(i, t)[:3]
+            return (mass * omega**2 * accel + damping * omega * rate + preload + k * lift
+                    + load + weight)
+
+        min_force, where = _least_along(program, segment, theta, force, force_at)
+        min_at = math.degrees(where)
         max_force = float(force.max())
         max_torque = float(np.max(np.abs(torque)))
         required = max(0.0, float(np.max(preload - force)))
@@ -121,13 +135,70 @@ def dynamics(design: Design, program: MotionProgram) -> Dynamics | None:
                     min_at, max_force, max_torque, needed, needed_at)
 
 
+def _loss_speed(mass: float, damping: float, static: Array, ds: Array, dds: Array) -> Array:
+    """The least speed (rad/s) at which the force m ω² s″ + c ω s′ + P (P the *static* part:
+    the spring and the loads, N) falls below zero at each point of the cam (s′, s″ in m per
+    radian, and per radian²), inf where it never does: the least positive root of that
+    quadratic in ω, 0 where P < 0 already."""
+    a, b, c = mass * dds, damping * ds, static
+    disc = b * b - 4.0 * a * c
+    root = np.sqrt(np.maximum(disc, 0.0))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        # b < 0: 2P/(√D − b), the smaller positive root (a > 0 needs D > 0); b ≥ 0: one
+        # positive root only where a < 0, (b + √D)/(2|a|)
+        falling = np.where(((a <= 0.0) & (disc >= 0.0)) | (disc > 0.0), 2.0 * c / (root - b),
+                           np.inf)
+        rising = np.where(a < 0.0, (b + root) / (-2.0 * a), np.inf)
+        speed = np.where(b < 0.0, falling, rising)
+    return np.where(c < 0.0, 0.0, np.where(np.isnan(speed), np.inf, speed))
+
+
+#: Rounds of the search for a least between grid points, each sampling the bracket at this many
+#: points and keeping the best one's neighbours (16 times narrower a round).
+ZOOM_ROUNDS = 4
+ZOOM_SAMPLES = 33
+
+
+def _least_along(program: MotionProgram, segment: Array, theta: Array, values: Array,
+                 value_at: Callable[[Array, Array], Array]) -> tuple[float, float]:
+    """The least of a smooth function over the turn and its cam angle (rad): its *values* on
+    the grid (*segment*, *theta*), refined between the grid's points next to their least, in
+    that segment, by :data:`ZOOM_ROUNDS` rounds of sampling (*value_at* of the segments'
+    indices and the angles into them, rad)."""
+    k = int(np.argmin(values))
+    best, at = float(values[k]), float(theta[k])
+    seg = int(segment[k])
+    lo = k - 1 if k > 0 and segment[k - 1] == seg else k
+    hi = k + 1 if k + 1 < theta.size and segment[k + 1] == seg else k
+    start = float(program.table.start[seg])
+    a, b = float(theta[lo]) - start, float(theta[hi]) - start
+    index = np.full(ZOOM_SAMPLES, seg)
+    for _ in range(ZOOM_ROUNDS):
+        t = np.linspace(a, b, ZOOM_SAMPLES)
+        found = value_at(index, t)
+        j = int(np.argmin(found))
+        if found[j] < best:
+            best, at = float(found[j]), start + float(t[j])
+        a, b = float(t[max(j - 1, 0)]), float(t[min(j + 1, ZOOM_SAMPLES - 1)])
+    return best, at
+
+
+def safe_rpm(speed: float) -> str:
+    """A speed the follower must stay below (rpm), to five figures rounded down: never above
+    the speed it stands for."""
+    if not speed > 0.0 or math.isinf(speed):
+        return f"{speed:.5g}"
+    scale = 10.0 ** (4 - math.floor(math.log10(speed)))
+    return f"{math.floor(speed * scale) / scale:.5g}"
+
+
 def jump_finding(design: Design, dyn: Dynamics) -> Finding:
     """Contact lost at the design speed is an error (the follower leaves the cam and hammers
     back); without a speed, the jump speed alone is reported."""
     speed = design.cam.speed_rpm
     limit = dyn.jump_speed_rpm
-    jump = (f"the follower jumps above {limit:.5g} rpm ({dyn.jump_speed_rad_s:.5g} rad/s, first "
-            f"at {dyn.jump_at_deg:.4g}°)" if limit is not None else
+    jump = (f"the follower jumps above {safe_rpm(limit)} rpm ({dyn.jump_speed_rad_s:.5g} "
+            f"rad/s, first at {dyn.jump_at_deg:.4g}°)" if limit is not None else
             "the follower never decelerates away from the cam: it cannot jump")
     if dyn.min_force_N is None or speed is None:
         return Finding("jump", True, "error", f"{jump}; no speed given to check against",

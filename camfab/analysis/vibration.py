@@ -12,13 +12,14 @@ their units.
 
 from __future__ import annotations
 
+import cmath
 import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from camfab.analysis.dynamics import G, trace_scale
-from camfab.analysis.elastic import Train, contact_force, periodic_response, respond, rigid_force
+from camfab.analysis.elastic import Train, least_force, respond, rigid_force
 from camfab.arrays import Array, Index
 from camfab.design import Design
 from camfab.motion.program import MotionProgram, cycle_angles
@@ -32,15 +33,23 @@ SEARCH_TO = 3.0
 #: at ζ = 0.05 is some 10 % wide), and besides them the speeds at which a harmonic of the
 #: motion meets the train's natural frequency (ω = ω_d/k, the first :data:`RESONANCES`), where
 #: a lightly damped train's narrow resonances lie; then the first bracket of a speed that holds
-#: and one that does not is narrowed to :data:`JUMP_TOLERANCE` (relative).
+#: and one that does not is narrowed to :data:`JUMP_TOLERANCE` (relative) on the bracket's
+#: grid, and checked (narrowed again where that grid misjudged it) on the analysis grid, the
+#: one the design speed is analysed on. The speed reported is the bracket's safe end, the one
+#: at which the follower holds.
 SEARCH_SPEEDS = 121
 RESONANCES = 60
-JUMP_TOLERANCE = 1e-4
+JUMP_TOLERANCE = 1e-7
 #: The cam-angle steps (rad) of the scan's grid and of the bracket's: the forcing's cubic between
-#: points 2° apart is within some 1e-4 of the exact force, 1° apart some 1e-5, well inside what
-#: a speed's search needs.
+#: points 2° apart is within some 1e-4 of the exact force, 1° apart some 1e-5: enough to find
+#: the bracket, which the analysis grid (some 1e-13) then narrows. Each speed's least force is
+#: the continuous response's (:func:`~camfab.analysis.elastic.least_force`), not its grid's.
 SCAN_STEP = math.radians(2.0)
 SEARCH_STEP = math.radians(1.0)
+#: The narrowing of a bracket takes secant steps once it is this narrow (relative: the least
+#: force is then close to linear in the speed), at most :data:`SECANT_ROUNDS` of them.
+SECANT_FROM = 2e-3
+SECANT_ROUNDS = 6
 
 #: The acceleration's harmonics are taken from this many samples of the turn, and shown up to
 #: the larger of :data:`SPECTRUM_LEAST` and twice the natural frequency's order.
@@ -76,7 +85,9 @@ class Vibration:
     the side it passes onto (+1 the side that pushes the follower along its motion).
     ``harmonics`` and ``amplitudes`` are the acceleration's harmonics (per turn) and their
     amplitudes (m/s² at the trace point); ``trace_m`` is the trace point's metres per unit of
-    lift (mm, or rad of an arm's swing)."""
+    lift (mm, or rad of an arm's swing); ``least_N`` the least contact force of the
+    continuous response and ``least_at_rad`` where (:func:`~camfab.analysis.elastic.
+    least_force`)."""
 
     train: Train
     speed_rpm: float
@@ -96,6 +107,8 @@ class Vibration:
     harmonics: Array
     amplitudes: Array
     trace_m: float
+    least_N: float = math.nan
+    least_at_rad: float = math.nan
 
     @property
     def natural_Hz(self) -> float:
@@ -133,11 +146,13 @@ class Vibration:
 
     @property
     def min_force_N(self) -> float:
-        return float(np.min(self.force_N))
+        """The least contact force over the turn (N): the continuous response's, which may
+        fall between the grid's points."""
+        return self.least_N
 
     @property
     def min_force_at_deg(self) -> float:
-        return _deg(self.theta[int(np.argmin(self.force_N))])
+        return _deg(self.least_at_rad)
 
     @property
     def max_force_N(self) -> float:
@@ -146,6 +161,44 @@ class Vibration:
 
 def _deg(theta: float) -> float:
     return round(math.degrees(float(theta)), 9) + 0.0
+
+
+#: The most turns' ringing the train's periodic state may add up, 1/|1 − e^{λT}| (λ the train's
+#: exponent in τ, T the turn's length): near a resonance with little damping it grows as
+#: 1/(2π ζ_t f_n/f) (a whole multiple) or 1/δ (δ the phase the turn misses one by), and with it
+#: the steady state and the rounding of e^{λT}, some 1e-16 of the turn's phase. Beyond this the
+#: state is not computable to 1e-6, and the train is nothing like a cam follower: refused.
+BUILD_UP_LIMIT = 1e6
+
+
+def build_up(train: Train, omega: float) -> float:
+    """1/|1 − e^{λT}| of the *train* at the cam speed *omega* (rad/s): over how many turns its
+    ringing adds up in the periodic state (inf exactly at an undamped resonance)."""
+    q = train.natural / omega
+    zeta = train.total_zeta
+    turn = complex(-zeta, math.sqrt(max(1.0 - zeta * zeta, 0.0))) * (2.0 * math.pi * q)
+    gap = abs(1.0 - cmath.exp(turn))
+    return math.inf if gap == 0.0 else 1.0 / gap
+
+
+def resonance_note(design: Design, train: Train) -> str | None:
+    """Why the periodic state of the *train* at the design's speed is not computed (its
+    ringing adds up over more than :data:`BUILD_UP_LIMIT` turns: a resonance with next to no
+    damping), in words with what to change; None where it is."""
+    omega = design.cam.omega
+    assert omega is not None
+    turns = build_up(train, omega)
+    if turns <= BUILD_UP_LIMIT:
+        return None
+    ratio = train.natural / omega
+    return (f"the follower train resonates with the cam at {design.cam.speed_rpm:.6g} rpm: its "
+            f"natural frequency is {ratio:.6g} times the cam's turning frequency and its "
+            f"damping ratio {train.total_zeta:.3g} lets its ringing add up over some "
+            f"{min(turns, 1e300):.2g} turns, so its vibration, forces and stress have no value "
+            "camfab can give (a train that far from rigid is no cam follower); raise "
+            "follower.damping_ratio (0.02–0.1 is usual), or change follower.stiffness, "
+            "follower.mass or cam.speed_rpm so that the natural frequency lies between two "
+            "whole multiples of the cam's")
 
 
 def spring_load(design: Design) -> float:
@@ -195,12 +248,13 @@ def vibration(design: Design, program: MotionProgram, held_by_spring: bool, two_
     if two_sided:
         changes = flank_changes(theta, response.force)
     else:
-        search = jump_speed(train, program, scale, speed)
+        search = jump_speed(train, program, scale, speed, step)
     harmonics, amplitudes = spectrum(program, omega, scale, train.natural / omega)
     return Vibration(train, speed, theta, segment, response.error,
                      -rigid / train.total_stiffness, response.force, rigid, not two_sided,
                      dwells, search.speed_rpm, search.low_rpm, search.high_rpm,
-                     search.every_speed, changes, harmonics, amplitudes, scale)
+                     search.every_speed, changes, harmonics, amplitudes, scale, response.least,
+                     response.least_at)
 
 
 @dataclass(frozen=True)
@@ -214,24 +268,32 @@ class JumpSearch:
     every_speed: bool
 
 
-def _min_forces(train: Train, theta: Array, motion: Array, speeds_rpm: Array) -> Array:
-    """The least contact force (N) over the turn at each of *speeds_rpm*, on the grid
-    *theta* of the *motion* (m and per radian)."""
-    omega = np.asarray(speeds_rpm, dtype=np.float64) * (math.pi / 30.0)
-    force, rate = rigid_force(train, omega[:, None], motion[:, None, :])
-    error, error_rate = periodic_response(train, omega, theta, force, rate)
-    return np.min(contact_force(train, omega, error, error_rate), axis=1)
+class _Least:
+    """The least contact force (N) over the turn of the continuous periodic response at given
+    speeds (rpm), on the grid of one cam-angle *step* (rad)."""
+
+    def __init__(self, train: Train, program: MotionProgram, scale: float, step: float):
+        _, self.theta, motion = program.segment_grid(step)
+        self.motion = motion * scale
+        self.train = train
+
+    def __call__(self, speeds_rpm: Array | list[float], floor: float = math.inf) -> Array:
+        """The least forces at *speeds_rpm*, exact as far as they decide the comparison with
+        *floor* (:func:`~camfab.analysis.elastic.least_force`)."""
+        omega = np.asarray(speeds_rpm, dtype=np.float64) * (math.pi / 30.0)
+        with np.errstate(all="ignore"):
+            force, rate = rigid_force(self.train, omega[:, None], self.motion[:, None, :])
+            return least_force(self.train, omega, self.theta, force, rate, floor)[0]
 
 
-def jump_speed(train: Train, program: MotionProgram, scale: float,
-               speed_rpm: float) -> JumpSearch:
+def jump_speed(train: Train, program: MotionProgram, scale: float, speed_rpm: float,
+               step: float) -> JumpSearch:
     """The least speed (rpm) at which the elastic train's contact force first falls below
-    zero, searched from :data:`SEARCH_FROM` to :data:`SEARCH_TO` times *speed_rpm*. Speeds at
-    which the undamped train resonates are stepped over (its force there has no bound, and the
-    scan sees the rise toward it)."""
-    _, coarse, coarse_motion = program.segment_grid(SCAN_STEP)
-    _, theta, motion = program.segment_grid(SEARCH_STEP)
-    coarse_motion, motion = coarse_motion * scale, motion * scale
+    zero, searched from :data:`SEARCH_FROM` to :data:`SEARCH_TO` times *speed_rpm*, to
+    :data:`JUMP_TOLERANCE` on the analysis grid of *step* (rad), and reported at its safe end
+    (a speed at which the follower holds). Speeds at which the undamped train resonates are
+    stepped over (its force there has no bound, and the scan sees the rise toward it)."""
+    scan = _Least(train, program, scale, SCAN_STEP)
     low_end, top = SEARCH_FROM * speed_rpm, SEARCH_TO * speed_rpm
     damped = train.natural * math.sqrt(max(1.0 - train.total_zeta**2, 0.0)) * 30.0 / math.pi
     resonant = damped / np.arange(1, RESONANCES + 1)
@@ -239,26 +301,80 @@ def jump_speed(train: Train, program: MotionProgram, scale: float,
                         resonant[(resonant > low_end) & (resonant < top)])
     if train.total_zeta == 0.0:
         speeds = speeds[_away_from_resonance(train, speeds)]
-    with np.errstate(all="ignore"):
-        least = _min_forces(train, coarse, coarse_motion, speeds)
-    lost = np.flatnonzero(~(least >= 0.0))
+    lost = np.flatnonzero(~(scan(speeds, 0.0) >= 0.0))
     if not lost.size:
         return JumpSearch(None, low_end, top, False)
     k = int(lost[0])
     if k == 0:
         return JumpSearch(float(speeds[0]), low_end, top, True)
     low, high = float(speeds[k - 1]), float(speeds[k])
+    # narrowed on the bracket's grid, then checked (and where its grid misjudged the ends,
+    # narrowed again) on the analysis grid
+    for least in (_Least(train, program, scale, SEARCH_STEP),
+                  _Least(train, program, scale, step)):
+        confirmed = _confirm(least, low, high, low_end, top)
+        if confirmed is None:  # it holds up to the top
+            return JumpSearch(None, low_end, top, False)
+        low, high, f_low, f_high = confirmed
+        if f_low < 0.0:  # it leaves the cam already at the first speed searched
+            return JumpSearch(low, low_end, top, True)
+        low, high = _narrow(least, low, high, f_low, f_high)
+    return JumpSearch(low, low_end, top, False)
+
+
+def _confirm(least: _Least, low: float, high: float, low_end: float,
+             top: float) -> tuple[float, float, float, float] | None:
+    """The bracket [*low*, *high*] (rpm) checked on the grid of *least*, with the least forces
+    at its ends: where a coarser grid misjudged an end (a speed within its error of the
+    jump), the bracket is widened, eightfold each time, until it holds at its lower end (or
+    that is *low_end*, where the least force is then negative) and not at its upper; None if
+    it holds up to *top*."""
+    width = high - low
+    f_low, f_high = (float(v) for v in least([low, high]))
+    while not f_low >= 0.0 and low > low_end:
+        high, f_high = low, f_low
+        width *= 8.0
+        low = max(low - width, low_end)
+        f_low = float(least([low])[0])
+    while f_high >= 0.0:
+        if high >= top:
+            return None
+        low, f_low = high, f_high
+        width *= 8.0
+        high = min(high + width, top)
+        f_high = float(least([high])[0])
+    return low, high, f_low, f_high
+
+
+def _narrow(least: _Least, low: float, high: float, f_low: float,
+            f_high: float) -> tuple[float, float]:
+    """The bracket [*low*, *high*] (rpm; least forces *f_low* ≥ 0 > *f_high* on the grid of
+    *least*) narrowed to :data:`JUMP_TOLERANCE`: rounds of seven speeds between the ends to
+    :data:`SECANT_FROM`, then secant steps through the last two speeds tried, each tried on
+    both sides of its guess at the tolerance and kept inside the bracket; rounds of seven
+    speeds again where they have not closed it."""
+    rounds = 0
+    last = [(low, f_low), (high, f_high)]
     while high - low > JUMP_TOLERANCE * high:
-        trials = np.linspace(low, high, 9)[1:-1]
-        with np.errstate(all="ignore"):
-            found = _min_forces(train, theta, motion, trials)
-        bad = np.flatnonzero(~(found >= 0.0))
-        if bad.size:
-            high = float(trials[bad[0]])
-            low = float(trials[bad[0] - 1]) if bad[0] > 0 else low
+        secant = rounds < SECANT_ROUNDS and high - low <= SECANT_FROM * high
+        if secant:
+            (x0, f0), (x1, f1) = last
+            guess = x1 - f1 * (x1 - x0) / (f1 - f0) if f1 != f0 else 0.5 * (low + high)
+            half = 0.4 * JUMP_TOLERANCE * high
+            trials = np.clip([guess - half, guess + half], low + half, high - half)
         else:
-            low = float(trials[-1])
-    return JumpSearch(high, low_end, top, False)
+            trials = np.linspace(low, high, 9)[1:-1]
+        rounds += secant
+        values = least(trials)
+        for trial, value in zip(trials, values, strict=True):
+            if value >= 0.0:
+                low, f_low = float(trial), float(value)
+            else:
+                high, f_high = float(trial), float(value)
+                break
+        last = [(low, f_low), (high, f_high)] if not secant else [
+            (float(trials[0]), float(values[0])), (float(trials[1]), float(values[1]))]
+    return low, high
 
 
 def _away_from_resonance(train: Train, speeds_rpm: Array) -> Array:

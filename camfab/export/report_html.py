@@ -212,7 +212,10 @@ def _vibration_section(analysis: Analysis, dynamics: dict[str, Any]) -> dict[str
     searched = dynamics["dynamic_jump_searched_to_rpm"]
     rows = [("natural frequency (Hz)", num(dynamics["natural_frequency_Hz"])),
             ("over the cam's turning frequency", num(dynamics["frequency_ratio"])),
-            ("damping ratio ζ of the train", num(dynamics["damping_ratio"])),
+            ("damping ratio ζ of the train's own damper (follower.damping_ratio)",
+             num(dynamics["damping_ratio"])),
+            ("with the spring's damping (spring.damping adds to it), in all",
+             num(_total_zeta(analysis))),
             ("largest dynamic error x − s (mm)", f"{num(dynamics['dynamic_error_max_mm'])} at "
              f"{num(dynamics['dynamic_error_max_at_deg'])}°"),
             ("of it, the train's largest compression under the load (mm)",
@@ -238,6 +241,12 @@ def _vibration_section(analysis: Analysis, dynamics: dict[str, Any]) -> dict[str
     changes = [(num(c["cam_angle_deg"]), c["onto"]) for c in dynamics.get("flank_changes", [])]
     return {"rows": rows, "dwells": dwells, "changes": changes, "notes": [],
             "figure": vibration_figure(analysis), "spectrum": spectrum_figure(analysis)}
+
+
+def _total_zeta(analysis: Analysis) -> float | None:
+    """The follower train's damping ratio with the spring's damping added (None without it)."""
+    shaken = None if analysis.at_speed is None else analysis.at_speed.vibration
+    return None if shaken is None else shaken.train.total_zeta
 
 
 def animation_data(analysis: Analysis) -> dict[str, Any]:

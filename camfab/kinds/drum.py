@@ -97,8 +97,9 @@ class DrumResult(CamResult):
         the upper flank where it is pulled back, in line contact from the floor to the
         surface, each flank's curvature across the contact exact
         (:meth:`~camfab.geometry.drum.Drum.flank_curvature`) at the radii of the analysis;
-        the normal force is the force along the motion over the mean of cos φ along the line,
-        and the roller rolls along the groove at its pitch radius."""
+        the normal force is the force along the motion over the mean of cos φ along the line
+        (:func:`mean_cosine`, exact), and the roller rolls along the groove at its pitch
+        radius."""
         from camfab.analysis.contact import Contact, ContactSide, contact_length
 
         dense, design = self.drum, analysis.design
@@ -106,7 +107,7 @@ class DrumResult(CamResult):
         radii = dense.radii[:, None]
         lower, upper = (d.flank_curvature(dense.motion[1], dense.motion[2], radii, side)
                         for side in (True, False))
-        normal = 1.0 / np.mean(np.cos(dense.pressure_angle), axis=0)
+        normal = 1.0 / mean_cosine(d.root, d.radius, dense.motion[1])
         rolling = np.hypot(d.pitch, dense.motion[1])
         sides = tuple(ContactSide(name, carries, curvature, normal, rolling, always=False,
                                   rows=dense.radii, rows_from="from the drum's axis")
@@ -135,6 +136,15 @@ class DrumResult(CamResult):
 
     def drawing(self, analysis: Analysis) -> str:
         return _drawing_svg(analysis, self.drum)
+
+
+def mean_cosine(inner: float, outer: float, ds: Array) -> Array:
+    """The mean of cos φ = r/√(r² + s′²) over the contact line from radius *inner* to *outer*
+    (mm) at the lift's rate *ds* (mm/rad), exact: the integral of r/√(r² + s′²) is
+    √(r² + s′²), so the mean is (r₁ + r₀)/(√(r₁² + s′²) + √(r₀² + s′²)) (written without the
+    difference of the roots, which cancels)."""
+    ds = np.asarray(ds, dtype=np.float64)
+    return (outer + inner) / (np.hypot(outer, ds) + np.hypot(inner, ds))
 
 
 def _drawing_svg(analysis: Analysis, dense: DrumDense) -> str:
