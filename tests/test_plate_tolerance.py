@@ -1,9 +1,11 @@
 """A plate cam's files hold its exact curve within ``manufacturing.tolerance``: designs whose
-check failed (a mushroom's follower run that found no contact on a dwell) build with the
-``verification`` check passing, and, measured independently, every point of the CUT contour
-(read with ezdxf, its arcs flattened by ezdxf) lies within the tolerance of the exact working
-curve (camfab's closed-form evaluator on a grid far finer than the tolerance needs), and every
-point of that curve within the tolerance of the contour."""
+DXF outline strayed further (arcs fitted across a velocity corner of a knife's profile or a jump
+of curvature, bowing off the curve between the points they were checked at; a mushroom's
+follower run that found no contact on a dwell) build with the ``verification`` check passing,
+and, measured independently, every point of the CUT contour (read with ezdxf, its arcs
+flattened by ezdxf) lies within the tolerance of the exact working curve (camfab's closed-form
+evaluator on a grid far finer than the tolerance needs), and every point of that curve within
+the tolerance of the contour."""
 
 from __future__ import annotations
 
@@ -15,6 +17,7 @@ import numpy as np
 import pytest
 import shapely
 
+from camfab.geometry.arcfit import fit_arcs
 from camfab.geometry.disc_geometry import disc_cam
 from camfab.pipeline import analyse, design_from_text, verify_exports
 
@@ -23,6 +26,45 @@ from .dxf_loops import loops
 #: Cam-angle step of the exact reference curve: its chords stray under 1e-6 mm from the curve
 #: on these plates (c²/8ρ with c ≈ 0.02 mm).
 REFERENCE_STEP = math.radians(0.02)
+
+KNIFE_UNIFORM_VELOCITY = """\
+name: knife-velocity-corner
+cam: {type: disc, rotation: cw, base_radius: 47.463, thickness: 8, bore: 10}
+follower: {type: knife, motion: translating}
+motion:
+  - rise:   {angle: 103, lift: 22.85, law: uniform-velocity}
+  - dwell:  {angle: 66}
+  - return: {angle: 81, law: uniform-velocity}
+  - dwell:  {angle: 110}
+manufacturing: {tolerance: 0.0046831}
+"""
+
+SWINGING_KNIFE_UNIFORM_VELOCITY = """\
+name: swinging-knife-corner
+units: in
+cam: {type: disc, base_radius: 1.5021, thickness: 0.31496, bore: 0.3937}
+follower: {type: knife, motion: oscillating, pivot_distance: 4.9842, arm_length: 4.0282,
+           pivot_side: left}
+motion:
+  - rise:   {angle: 87, lift: 13.051, law: uniform-velocity}
+  - dwell:  {angle: 167}
+  - return: {angle: 92, law: uniform-velocity}
+  - dwell:  {angle: 14}
+manufacturing: {tolerance: 0.00028776}
+"""
+
+MUSHROOM_ACCELERATION_STEPS = """\
+name: mushroom-acceleration-steps
+cam: {type: disc, base_radius: 47.508, thickness: 8, bore: 10}
+follower: {type: mushroom, motion: oscillating, pivot_distance: 117.66, arm_length: 93.748,
+           face_radius: 59.093}
+motion:
+  - rise:   {angle: 66, lift: 16.218, law: polynomial-23}
+  - dwell:  {angle: 12}
+  - return: {angle: 94, law: polynomial-23}
+  - dwell:  {angle: 188}
+manufacturing: {tolerance: 0.00050015}
+"""
 
 MUSHROOM_SWINGING_OVER_A_DWELL = """\
 name: mushroom-dwell
@@ -72,7 +114,10 @@ def distances(contour: np.ndarray, exact: np.ndarray) -> tuple[float, float]:
             float(polyline_distance(exact, contour).max()))
 
 
-@pytest.mark.parametrize("text", [MUSHROOM_SWINGING_OVER_A_DWELL], ids=["mushroom-dwell"])
+@pytest.mark.parametrize("text", [KNIFE_UNIFORM_VELOCITY, SWINGING_KNIFE_UNIFORM_VELOCITY,
+                                  MUSHROOM_ACCELERATION_STEPS, MUSHROOM_SWINGING_OVER_A_DWELL],
+                         ids=["knife-corner", "swinging-knife-corner",
+                              "mushroom-acceleration-steps", "mushroom-dwell"])
 def test_the_cut_outline_holds_the_exact_curve(text: str) -> None:
     design, doc, check = build(text)
     tolerance = design.manufacturing.tolerance
@@ -81,3 +126,18 @@ def test_the_cut_outline_holds_the_exact_curve(text: str) -> None:
     outline = mm * loops(doc, "CUT", sagitta=1e-2 * tolerance / mm)[0]
     out, back = distances(outline, exact_working(design))
     assert out <= tolerance and back <= tolerance
+
+
+def test_arcs_hold_the_chords_when_asked() -> None:
+    """Twelve points on a circle of radius 10 (30° apart, the chords sagging 10(1 − cos 15°) =
+    0.34 inside it): arcs through them meet every point, and stray 0.34 from the chain between
+    them; with the chords held, no point of the fitted contour strays further from the chain
+    than the tolerance."""
+    angle = np.radians(np.arange(0.0, 360.0, 30.0))
+    chain = 10.0 * np.column_stack((np.cos(angle), np.sin(angle)))
+    polygon = shapely.LinearRing(chain)
+    sagitta = 10.0 * (1.0 - math.cos(math.radians(15.0)))
+    for chords in (False, True):
+        flat = fit_arcs(chain, 0.1, chords=chords).points(1e-6)
+        stray = float(shapely.distance(polygon, shapely.points(flat)).max())
+        assert stray <= 0.1 if chords else stray == pytest.approx(sagitta, rel=1e-3)
