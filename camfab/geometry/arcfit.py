@@ -35,22 +35,22 @@ STRAIGHT = 1e-9
 MAX_RADIUS_RATIO = 100.0
 
 
-def _inside_between(chain: Array, centre: Array, radius: float) -> float:
-    """How far (mm) the chords of *chain* (its consecutive points) come inside the circle of
-    *radius* about *centre*: radius less each chord's nearest approach to the centre, at most.
+def _inside_between(x: Array, y: Array, radius: float) -> float:
+    """How far (mm) the chords of a chain of points (*x*, *y*: coordinates from a circle's
+    centre, mm, in order) come inside the circle of *radius* about it: radius less each chord's
+    nearest approach to the centre, at most.
 
     The points alone do not bound an arc's distance from the curve they sample: an arc that
     bends more than the curve (one fitted across a corner of it) passes near every point and
     bows off the chords between them. The farthest a chord strays outside the circle is at one
     of its ends (distance from the centre is convex along it), so the points and this bound the
     arc's distance from the chain."""
-    start, d = chain[:-1], np.diff(chain, axis=0)
-    rel = centre - start
-    length2 = np.einsum("ij,ij->i", d, d)
+    ax, ay, dx, dy = x[:-1], y[:-1], np.diff(x), np.diff(y)
+    length2 = dx * dx + dy * dy
     with np.errstate(divide="ignore", invalid="ignore"):
-        t = np.clip(np.where(length2 > 0.0, np.einsum("ij,ij->i", rel, d) / length2, 0.0),
-                    0.0, 1.0)
-    return float(np.max(radius - np.hypot(*(rel - t[:, None] * d).T), initial=0.0))
+        t = np.clip(-(ax * dx + ay * dy) / length2, 0.0, 1.0)
+    t[~(length2 > 0.0)] = 0.0
+    return radius - float(np.min(np.hypot(ax + t * dx, ay + t * dy)))
 
 
 def _arc_error(points: Array, start: int, end: int, max_radius: float,
@@ -83,15 +83,15 @@ def _arc_error(points: Array, start: int, end: int, max_radius: float,
     if radius > max_radius:  # as a line (accepted only where the line holds the tolerance)
         off = np.abs((inner[:, 0] - x0) * cy - (inner[:, 1] - y0) * cx) / length
         return float(off.max()), 0.0
-    centre = np.array([x0 + ux, y0 + uy])
-    error = float(np.max(np.abs(np.hypot(*(inner - centre).T) - radius)))
-    if chords:
-        error = max(error, _inside_between(inner, centre, radius))
     # the points must also run along the arc the bulge describes (not around the far side)
     sx, sy, ex, ey = -ux, -uy, x1 - x0 - ux, y1 - y0 - uy
     sweep = math.atan2(sx * ey - sy * ex, sx * ex + sy * ey)
     if turn * sweep < 0 or abs(sweep) > MAX_SWEEP:  # too long an arc (or the long way round)
         return math.inf, 0.0
+    x, y = inner[:, 0] - (x0 + ux), inner[:, 1] - (y0 + uy)
+    error = float(np.max(np.abs(np.hypot(x, y) - radius)))
+    if chords:
+        error = max(error, _inside_between(x, y, radius))
     return error, math.tan(sweep / 4.0)
 
 
