@@ -80,22 +80,28 @@ manufacturing: {tolerance: 0.025105}
 """
 
 
-def build(text: str):  # type: ignore[no-untyped-def]
-    """The design of *text*, its DXF as a reader opens it, and its ``verification`` check: the
-    build's own reading back of the files it writes."""
+def build(text: str, drawing: str = ""):  # type: ignore[no-untyped-def]
+    """The design of *text*, its DXF (of the plate *drawing*: ``-a`` for a conjugate pair's cam
+    a) as a reader opens it, and its ``verification`` check: the build's own reading back of
+    the files it writes."""
     design = design_from_text(text)
     analysis, exports = verify_exports(analyse(design, advice=False), ("dxf",))
-    dxf = exports.files["dxf"][f"{design.name}.dxf"]
+    dxf = exports.files["dxf"][f"{design.name}{drawing}.dxf"]
     check = next(f for f in analysis.findings if f.id == "verification")
     return design, ezdxf.read(io.StringIO(dxf.decode())), check
 
 
-def exact_working(design) -> np.ndarray:  # type: ignore[no-untyped-def]
+def exact_working(design, outward: float = 0.0) -> np.ndarray:  # type: ignore[no-untyped-def]
     """The exact working curve (mm) at every :data:`REFERENCE_STEP` of each segment, both
-    ends of each included (a corner at a joint is a point of it)."""
+    ends of each included (a corner at a joint is a point of it), moved *outward* (mm) along
+    its normal: the path of a beam's centre kerf/2 outside it."""
     cam = disc_cam(design)
     _, theta, motion = design.program.segment_grid(REFERENCE_STEP)
-    return cam.working(theta, motion).xy
+    curve = cam.working(theta, motion)
+    # the normal: the unit tangent turned a right angle, to the side away from the cam centre
+    normal = np.column_stack((curve.tangent[:, 1], -curve.tangent[:, 0]))
+    normal *= np.sign(np.sum(normal * curve.xy))
+    return curve.xy + outward * normal
 
 
 def polyline_distance(points: np.ndarray, ring: np.ndarray) -> np.ndarray:
@@ -125,6 +131,31 @@ def test_the_cut_outline_holds_the_exact_curve(text: str) -> None:
     mm = design.mm_per_unit
     outline = mm * loops(doc, "CUT", sagitta=1e-2 * tolerance / mm)[0]
     out, back = distances(outline, exact_working(design))
+    assert out <= tolerance and back <= tolerance
+
+
+CONJUGATE_ACCELERATION_STEPS_KERF = """\
+name: conjugate-kerf
+cam: {type: conjugate, rotation: cw, base_radius: 22.401, thickness: 8, bore: 10}
+follower: {type: roller, motion: translating, roller_radius: 6.1818, roller_spacing: 96.989}
+motion:
+  - rise:   {angle: 117, lift: 16.19, law: uniform-acceleration}
+  - dwell:  {angle: 88}
+  - return: {angle: 70, law: uniform-acceleration}
+  - dwell:  {angle: 85}
+manufacturing: {tolerance: 0.00067254, kerf: 0.25074}
+"""
+
+
+def test_a_kerf_path_holds_the_exact_offset() -> None:
+    """A conjugate pair's cam a cut by a laser (uniform acceleration: jumps of curvature at
+    every joint and halfway up each rise): the beam's path on CUT lies within the tolerance of
+    the exact working curve moved kerf/2 outward, and the part it leaves passes its check."""
+    design, doc, check = build(CONJUGATE_ACCELERATION_STEPS_KERF, "-a")
+    tolerance = design.manufacturing.tolerance
+    assert check.ok and check.value is not None and check.value <= tolerance
+    outline = loops(doc, "CUT", sagitta=1e-2 * tolerance)[0]
+    out, back = distances(outline, exact_working(design, design.manufacturing.kerf / 2.0))
     assert out <= tolerance and back <= tolerance
 
 
