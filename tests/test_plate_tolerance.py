@@ -66,6 +66,19 @@ motion:
 manufacturing: {tolerance: 0.00050015}
 """
 
+FLAT_ACCELERATION_STEPS = """\
+name: flat-acceleration-steps
+units: in
+cam: {type: disc, rotation: cw, base_radius: 1.3254, thickness: 0.31496, bore: 0.3937}
+follower: {type: flat, motion: translating, face_width: 5.3016}
+motion:
+  - rise:   {angle: 114, lift: 0.51297, law: uniform-acceleration}
+  - dwell:  {angle: 117}
+  - return: {angle: 72, law: uniform-acceleration}
+  - dwell:  {angle: 57}
+manufacturing: {tolerance: 0.0010553}
+"""
+
 MUSHROOM_SWINGING_OVER_A_DWELL = """\
 name: mushroom-dwell
 cam: {type: disc, rotation: cw, base_radius: 49.97, thickness: 8, bore: 10}
@@ -121,9 +134,11 @@ def distances(contour: np.ndarray, exact: np.ndarray) -> tuple[float, float]:
 
 
 @pytest.mark.parametrize("text", [KNIFE_UNIFORM_VELOCITY, SWINGING_KNIFE_UNIFORM_VELOCITY,
-                                  MUSHROOM_ACCELERATION_STEPS, MUSHROOM_SWINGING_OVER_A_DWELL],
+                                  MUSHROOM_ACCELERATION_STEPS, FLAT_ACCELERATION_STEPS,
+                                  MUSHROOM_SWINGING_OVER_A_DWELL],
                          ids=["knife-corner", "swinging-knife-corner",
-                              "mushroom-acceleration-steps", "mushroom-dwell"])
+                              "mushroom-acceleration-steps", "flat-acceleration-steps",
+                              "mushroom-dwell"])
 def test_the_cut_outline_holds_the_exact_curve(text: str) -> None:
     design, doc, check = build(text)
     tolerance = design.manufacturing.tolerance
