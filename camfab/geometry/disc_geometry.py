@@ -17,7 +17,7 @@ from camfab.arrays import Array, Index, Mask
 from camfab.curves.follower import FollowerGeometry
 from camfab.curves.plane import CurvePoints, offset_inward, signed_angle
 from camfab.curves.profile import MERGE_DISTANCE, Profile
-from camfab.curves.sampling import SAMPLING_SHARE, arc_points, sample_curves
+from camfab.curves.sampling import arc_points, sample_curves
 from camfab.geometry.disc import DiscCam, FaceLines
 from camfab.geometry.simulate import simulate
 from camfab.geometry.undercut import (
@@ -250,11 +250,19 @@ def disc_cam(design: Design, clearance: float = 0.0) -> DiscCam:
 #: The smallest factor by which a steep pressure angle may shrink the sampling tolerance.
 MIN_TOLERANCE_FACTOR = 0.01
 
+#: The share of ``manufacturing.tolerance`` (times the pressure angle's factor) a plate cam's
+#: sampled curves take. Its outline is written as arcs that hold the chords between these points
+#: within twice this (:data:`camfab.geometry.plate.ARC_FACTOR`), so within three times it of the
+#: exact curve, and a kerf's or cutter's offset and the reading back of the part a beam leaves
+#: take a quarter of it each (:data:`camfab.geometry.plate.OFFSET_SHARE`): in all 15/16 of the
+#: tolerance, the rest left to the rounding of the files.
+PLATE_SAMPLING_SHARE = 0.25
+
 
 def segment_tolerances(cam: DiscCam, dense: DenseCurves, tolerance: float,
                        count: int) -> Array:
-    """The chord tolerance of each segment (mm): the sampling share of *tolerance*, scaled so the
-    follower's lift error stays within that share.
+    """The chord tolerance of each segment (mm): a plate's sampling share of *tolerance*
+    (:data:`PLATE_SAMPLING_SHARE`), scaled so the follower's lift error stays within that share.
 
     A profile that strays δ along its normal moves a trace point δ/cos φ along its path. An
     oscillating flat face turns by δ/l about its pivot (l: the contact's distance along the face),
@@ -268,7 +276,7 @@ def segment_tolerances(cam: DiscCam, dense: DenseCurves, tolerance: float,
     np.minimum.at(worst, dense.segment, factor)
     # a floor keeps the point count finite near φ = 90° (a follower jammed in its guide, which
     # the pressure-angle check reports); up to φ = 89.4° the lift error stays within the share
-    return tolerance * SAMPLING_SHARE * np.maximum(worst, MIN_TOLERANCE_FACTOR)
+    return tolerance * PLATE_SAMPLING_SHARE * np.maximum(worst, MIN_TOLERANCE_FACTOR)
 
 
 def disc_geometry(design: Design, clearance: float = 0.0,

@@ -25,7 +25,6 @@ import numpy as np
 from camfab.arrays import Array, Mask
 from camfab.curves.plane import CurvePoints
 from camfab.curves.profile import Profile
-from camfab.geometry.arcfit import fit_arcs
 from camfab.geometry.disc import DiscCam
 from camfab.geometry.disc_geometry import (
     ANALYSIS_STEP,
@@ -39,6 +38,7 @@ from camfab.geometry.disc_geometry import (
     segment_tolerances,
 )
 from camfab.geometry.offset import quad_segments
+from camfab.geometry.plate import fit_chain
 from camfab.geometry.undercut import is_simple
 from camfab.motion.program import MotionProgram
 
@@ -369,7 +369,8 @@ def groove_walls(design: Design, geom: DiscGeometry) -> GrooveWalls:
         radius=radius, roller_radius=fol.roller_radius or 0.0, clearance=fol.groove_clearance,
         depth=cam.groove_depth, thickness=cam.thickness, outer_radius=outer_radius,
         outer_radius_given=given,
-        inner=fit_arcs(inner_points, geom.tolerance), outer=fit_arcs(outer_points, geom.tolerance),
+        inner=fit_chain(inner_points, geom.tolerance),
+        outer=fit_chain(outer_points, geom.tolerance),
         inner_points=inner_points, outer_points=outer_points, outer_dense=outer_dense,
         inner_folds=geom.folds, outer_folds=outer_folds, inner_trimmed=geom.undercut,
         outer_crossing=crossing,

@@ -20,9 +20,15 @@ from camfab.geometry.arcfit import fit_arcs
 from camfab.geometry.disc_geometry import DiscGeometry
 from camfab.geometry.offset import grow
 
-#: Share of the export tolerance left to an offset's round joins and to the flattening of arcs
-#: before an offset; the arc fit that follows takes the rest.
+#: Share of the sampling tolerance left to an offset's round joins and to the flattening of arcs
+#: before an offset (:data:`~camfab.geometry.disc_geometry.PLATE_SAMPLING_SHARE` says the
+#: whole budget).
 OFFSET_SHARE = 0.25
+
+#: The tolerance of the arcs fitted to a plate's sampled chain, as a multiple of the tolerance it
+#: was sampled to: the arcs hold its chords (corners and jumps of curvature included) within
+#: this, so they lie within ``1 + ARC_FACTOR`` sampling tolerances of the exact curve.
+ARC_FACTOR = 2.0
 
 
 @dataclass(frozen=True)
@@ -99,10 +105,17 @@ def holes(design: Design) -> Contours:
     return Contours(profiles=(hole,))
 
 
+def fit_chain(points: np.ndarray, tolerance: float) -> Profile:
+    """The closed chain *points* (mm), sampled within *tolerance* (mm) of a curve, as lines and
+    arcs holding its chords within :data:`ARC_FACTOR` times that."""
+    return fit_arcs(points, ARC_FACTOR * tolerance, chords=True)
+
+
 def offset_outline(points: np.ndarray, distance: float, tolerance: float) -> Profile:
-    """The outline through *points* (mm) grown by *distance* (mm), fitted within *tolerance*."""
+    """The outline through *points* (mm, sampled within *tolerance*, mm) grown by *distance*
+    (mm), fitted with :func:`fit_chain`."""
     grown = grow(points, distance, OFFSET_SHARE * tolerance)
-    return fit_arcs(max(grown, key=len), tolerance)
+    return fit_chain(max(grown, key=len), tolerance)
 
 
 def offset_holes(part: Contours, distance: float, tolerance: float) -> Contours:
@@ -113,14 +126,14 @@ def offset_holes(part: Contours, distance: float, tolerance: float) -> Contours:
     for hole in part.profiles:
         flat = hole.points(OFFSET_SHARE * tolerance)
         for ring in grow(flat, -distance, OFFSET_SHARE * tolerance):
-            profiles.append(fit_arcs(ring, tolerance))
+            profiles.append(fit_chain(ring, tolerance))
     return Contours(tuple(profiles), circles)
 
 
 def plate(design: Design, geom: DiscGeometry) -> Plate:
     """The plate's contours: the part, the kerf-compensated CUT contours and the toolpath."""
     tolerance = geom.tolerance
-    outline = geom.profile if geom.exact else fit_arcs(geom.profile.vertices, tolerance)
+    outline = geom.profile if geom.exact else fit_chain(geom.profile.vertices, tolerance)
 
     def around(distance: float) -> Profile:
         """The outline grown by *distance*: exactly for an exact outline of lines and arcs

@@ -281,8 +281,11 @@ def _ring_windows(centre: Array, reach: Array, pivot: Array,
     r = np.hypot(centre[:, 0], centre[:, 1])
     a = float(np.hypot(*pivot))
     tau = math.atan2(pivot[1], pivot[0])
+    # the ball meets the ring where its centre is within arm ± reach of the pivot: no nearer
+    # limit when the ball is wider than the arm is long (a mushroom's face about a dwell)
+    inner = np.maximum(arm - reach, 0.0)
     with np.errstate(divide="ignore", invalid="ignore"):
-        near = np.arccos(np.clip((r * r + a * a - (arm - reach) ** 2) / (2 * r * a), -1.0, 1.0))
+        near = np.arccos(np.clip((r * r + a * a - inner**2) / (2 * r * a), -1.0, 1.0))
         far = np.arccos(np.clip((r * r + a * a - (arm + reach) ** 2) / (2 * r * a), -1.0, 1.0))
     g1, g2 = np.minimum(near, far), np.maximum(near, far)
     full = ~(r > 1e-12)

@@ -232,13 +232,13 @@ def plate_drawing(analysis: Analysis, plate: Plate, label: str | None = None,
     curve is its profile); *label* names the cam in the note (by default its type: "disc cam"),
     *outline_note* writes the note's line on the outline."""
     from camfab.export.part import Drawing
-    from camfab.geometry.arcfit import fit_arcs
+    from camfab.geometry.plate import fit_chain
 
     design, geom = analysis.design, analysis.geometry
     assert geom is not None
     scale = 1.0 / design.mm_per_unit
     drawing = Drawing(design.units)
-    drawing.contour(fit_arcs(geom.pitch.xy, geom.tolerance), scale, "PITCH")
+    drawing.contour(fit_chain(geom.pitch.xy, geom.tolerance), scale, "PITCH")
     drawing.circle(geom.cam.base_radius * scale, "BASE")
     if geom.cam.prime_radius != geom.cam.base_radius:
         drawing.circle(geom.cam.prime_radius * scale, "PRIME")

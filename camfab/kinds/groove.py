@@ -82,13 +82,13 @@ def _drawing(analysis: Analysis, cut: Contours, toolpath: Contours | None,
     """*cut* (mm) on ``CUT``, the walls on ``POCKET`` (milled, so never kerf-offset), the pitch
     curve on ``PITCH``, base and prime circles, the *toolpath*, marks and notes."""
     from camfab.export.part import Drawing
-    from camfab.geometry.arcfit import fit_arcs
+    from camfab.geometry.plate import fit_chain
 
     design, geom, walls = analysis.design, analysis.geometry, analysis.groove
     assert geom is not None and walls is not None
     scale = 1.0 / design.mm_per_unit
     drawing = Drawing(design.units)
-    drawing.contour(fit_arcs(geom.pitch.xy, geom.tolerance), scale, "PITCH")
+    drawing.contour(fit_chain(geom.pitch.xy, geom.tolerance), scale, "PITCH")
     drawing.circle(geom.cam.base_radius * scale, "BASE")
     drawing.circle(geom.cam.prime_radius * scale, "PRIME")
     _add_marks(drawing, analysis, scale)
@@ -234,10 +234,9 @@ def _toolpath(analysis: Analysis, part_holes: Contours) -> Contours | None:
     along the groove — on the pitch curve when the cutter is as wide as the groove, else one
     pass along each wall (the pitch curve offset by ± (R − cutter radius)); None without a
     ``cutter_radius``, and no groove pass for a cutter wider than the groove."""
-    from camfab.geometry.arcfit import fit_arcs
     from camfab.geometry.disc import DiscCam
     from camfab.geometry.disc_geometry import sample_closed, segment_tolerances
-    from camfab.geometry.plate import Contours, offset_holes
+    from camfab.geometry.plate import Contours, fit_chain, offset_holes
 
     design, geom, walls = analysis.design, analysis.geometry, analysis.groove
     assert geom is not None and walls is not None
@@ -247,7 +246,7 @@ def _toolpath(analysis: Analysis, part_holes: Contours) -> Contours | None:
     inside = offset_holes(part_holes, cutter, geom.tolerance)
     passes: list[Profile] = []
     if cutter == walls.radius:
-        passes.append(fit_arcs(geom.pitch.xy, geom.tolerance))
+        passes.append(fit_chain(geom.pitch.xy, geom.tolerance))
     elif cutter < walls.radius:
         # a cam of the same pitch curve whose follower radius is R − cutter: its working and
         # outer curves are the cutter centre's passes
@@ -259,7 +258,7 @@ def _toolpath(analysis: Analysis, part_holes: Contours) -> Contours | None:
                                         len(program.segments))
         for curve in ("working", "outer"):
             xy = sample_closed(tool, program, curve, tolerances).xy
-            passes.append(fit_arcs(xy, geom.tolerance))
+            passes.append(fit_chain(xy, geom.tolerance))
     return Contours((*passes, *inside.profiles),
                     (walls.outer_radius + cutter, *inside.circles))
 
