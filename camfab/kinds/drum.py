@@ -25,8 +25,9 @@ if TYPE_CHECKING:
     from camfab.curves.follower import FollowerGeometry
     from camfab.curves.profile import Profile
     from camfab.design import Design
-    from camfab.export.part import Drawing, Part
+    from camfab.export.part import Drawing, Part, Solid
     from camfab.export.serialise import PartFiles
+    from camfab.geometry.drum import Drum as DrumGeometry
     from camfab.geometry.drum import DrumDense
     from camfab.kinds.scene3d import Scene3D
     from camfab.motion.program import MotionProgram
@@ -281,8 +282,7 @@ def drum_part(analysis: Analysis) -> Part:
     subtracted once as one closed tube (withheld when the groove folds over itself); the groove
     developed at the surface as a drawing and a view (see :func:`_development_drawing`)."""
     from camfab.curves.sampling import SAMPLING_SHARE
-    from camfab.export.part import Cylinder, Difference, Mesh, Part
-    from camfab.export.stl import circle_segments
+    from camfab.export.part import Difference, Mesh, Part
     from camfab.geometry.arcfit import fit_arcs
     from camfab.geometry.drum_mesh import development, groove_tube, tube_surfaces
     from camfab.geometry.plate import Contours
@@ -298,10 +298,7 @@ def drum_part(analysis: Analysis) -> Part:
         withheld["stl"] = ("the groove folds over itself (see the groove check): there is no "
                            "solid a roller could run in")
     else:
-        body = Cylinder(d.length, d.radius, circle_segments(d.radius, tolerance))
-        if d.bore > 0.0:
-            body = Difference(body, Cylinder(d.length + 2.0, d.bore,
-                                             circle_segments(d.bore, tolerance), -1.0))
+        body = _body(d, tolerance)
         grids, probes = tube_surfaces(d, program, tube)
         solid = Difference(body, Mesh(tube.vertices, tube.faces, grids, probes), cut_first=True)
     # the developed groove: the walls at the surface, closed across the seam
@@ -311,6 +308,26 @@ def drum_part(analysis: Analysis) -> Part:
     drawing = _development_drawing(analysis, band, centre, (dev.width, dev.height))
     return Part({design.name: drawing}, {design.name: (Contours((band,)), None)}, solid,
                 needs=("dxf", "stl"), withheld=withheld, made=tube)
+
+
+def _body(d: DrumGeometry, tolerance: float) -> Solid:
+    """The drum before its groove is cut: a cylinder (mm) along Z from 0 to its length, its
+    circle's chords within *tolerance* (mm); with a bore, the ring between the bore and the
+    surface revolved, both circles cut into the same number of chords at the same angles.
+
+    (A cylinder less a bore cylinder has end faces that manifold3d triangulates afresh, and a
+    corner of the surface's polygon that falls within a few micrometres of the line through a
+    chord of the bore's makes a needle facet of the two, thinner than an STL can hold; the ring
+    revolved has its end faces in quads between the circles, each as wide as its chord.)"""
+    from camfab.curves.profile import Profile
+    from camfab.export.part import Cylinder, Revolution
+    from camfab.export.stl import circle_segments
+
+    segments = circle_segments(d.radius, tolerance)
+    if d.bore <= 0.0:
+        return Cylinder(d.length, d.radius, segments)
+    ring = np.array([[d.bore, 0.0], [d.radius, 0.0], [d.radius, d.length], [d.bore, d.length]])
+    return Revolution(ring, segments, Profile.from_points(ring))
 
 
 def _folded(analysis: Analysis) -> bool:
