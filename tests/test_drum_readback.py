@@ -6,9 +6,11 @@ tolerance, and the STL is closed, with no sliver facet."""
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import yaml
 
 from camfab.pipeline import build
@@ -39,3 +41,55 @@ def test_a_bored_drum_has_no_needle_facet_on_its_end_faces(tmp_path: Path) -> No
     check = demo_with(tmp_path, cam__radius=70)
     assert check["ok"], check["message"]
     assert "no degenerate face, short edge or sliver" in check["message"]
+
+
+def test_a_small_roller_on_a_large_drum_holds_the_design(tmp_path: Path) -> None:
+    """Radius 60 with a 4 mm roller: the read-back ran the roller over points along the wall
+    rows a quarter of its radius apart, and it sank 0.01 mm into the gaps between them."""
+    check = demo_with(tmp_path, cam__radius=60, follower__roller_radius=4)
+    assert check["ok"], check["message"]
+
+
+def test_the_roller_meets_each_wall_piece_where_dense_points_along_it_say() -> None:
+    """The roller's lowest and highest heights against the wall rows' straight pieces, met in
+    closed form, against the same rule over points 2 µm apart along every piece: never lower
+    (the pieces hold every point), and no higher than the points' sag under the roller."""
+    from camfab.arrays import edge_groups
+    from camfab.geometry import drum_mesh
+    from camfab.geometry.drum import drum
+    from camfab.motion.program import cycle_angles
+    from camfab.pipeline import design_from_text
+
+    text = (DESIGNS / "demo-cylindrical.yaml").read_text()
+    design = design_from_text(text.replace("radius: 50", "radius: 60")
+                              .replace("roller_radius: 6", "roller_radius: 3"))
+    d, program = drum(design), design.program
+    tube = drum_mesh.groove_tube(d, program, 0.0005)
+    edges = edge_groups(tube.faces, len(tube.vertices))[0]
+    theta = cycle_angles(math.radians(9.0))
+    centre = d.start + program.evaluate(theta)[0]
+    low, high = drum_mesh.groove_lift(d, tube.vertices, edges, theta, centre)
+    start, end = drum_mesh.wall_pieces(d, tube.vertices, edges)
+    spacing = 0.002
+    sag = spacing**2 / (8 * d.roller)
+    ends = np.stack((start, end))
+    ends_phi = np.arctan2(-ends[..., 0], ends[..., 1])
+    for k, alpha in enumerate(-d.sigma * theta):
+        # the pieces with an end near the roller, cut into points *spacing* apart
+        off = np.abs(np.mod(ends_phi - alpha + math.pi, 2 * math.pi) - math.pi)
+        near = (off < 2 * d.roller / d.root).any(axis=0)
+        a, b = start[near], end[near]
+        count = np.maximum(1, np.ceil(np.linalg.norm(b - a, axis=1) / spacing)).astype(int)
+        piece = np.repeat(np.arange(len(a)), count + 1)
+        f = (np.arange(piece.size) - np.repeat(np.cumsum(count + 1) - count - 1, count + 1)
+             ) / np.repeat(count, count + 1)
+        points = a[piece] + f[:, None] * (b[piece] - a[piece])
+        r, phi = np.hypot(points[:, 0], points[:, 1]), np.arctan2(-points[:, 0], points[:, 1])
+        across = np.mod(phi - alpha + math.pi, 2 * math.pi) - math.pi
+        w = np.where(np.abs(across) < math.pi / 2, r * np.sin(across), np.inf)
+        reach = np.abs(w) < d.roller
+        gap = np.sqrt(np.maximum(d.roller**2 - w[reach] ** 2, 0.0))
+        z = points[reach, 2]
+        below = z < centre[k]
+        assert 0.0 <= low[k] - np.max(z[below] + gap[below]) <= sag
+        assert 0.0 <= np.min(z[~below] - gap[~below]) - high[k] <= sag

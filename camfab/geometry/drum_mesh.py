@@ -191,52 +191,6 @@ def development(d: Drum, program: MotionProgram, tolerance: float) -> Developmen
                        unrolled(alpha, d.start + m[0]), 2.0 * math.pi * d.radius, d.length)
 
 
-def row_points(d: Drum, vertices: Array, faces: Array, spacing: float, alpha: Array) -> Array:
-    """Points on the walls of a drum's mesh (mm) where a roller whose axis is at the angles
-    *alpha* (rad, about Z from +Y) can touch them: the mesh's vertices, and points along each
-    edge that runs round the drum at one radius between the floor and the surface (a wall row,
-    from one station to the next), at most *spacing* (mm) apart within the roller's reach of
-    each angle. In a dwell the wall is flat, and one face may span a degree of the drum however
-    large the drum is: wider than the roller, which would find no vertex there. Only the
-    stretches within reach are filled, so a drum of any size costs points in proportion to the
-    angles, not to its circumference.
-    (Edges across the rows, from the floor toward the surface, are left: the straight piece of
-    a twisted quad's diagonal strays further from the wall than the rows and stations do.)"""
-    radius = np.hypot(vertices[:, 0], vertices[:, 1])
-    # each edge of each face (an edge shared by two faces is taken twice: its points repeat,
-    # which changes no extreme); kept when both ends are one wall row (to the float32 of an
-    # STL) between the floor and the surface, not the drum's outer surface or its ends
-    edges = np.concatenate((faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]))
-    ra, rb = radius[edges[:, 0]], radius[edges[:, 1]]
-    edges = edges[np.isclose(ra, rb, rtol=1e-6, atol=0.0) & _inside(d, ra)]
-    start, end = vertices[edges[:, 0]], vertices[edges[:, 1]]
-    long = np.linalg.norm(end - start, axis=1) > spacing
-    if not long.any():
-        return vertices
-    start, end = start[long], end[long]
-    # the angles to fill: across the roller's reach of each axis angle, *spacing* apart at
-    # the surface, and their copies a turn either way (an edge may cross the seam at ±π)
-    reach = _reach(d)
-    across = np.linspace(-reach, reach, int(min(64, math.ceil(2 * reach * d.radius / spacing)))
-                         + 1)
-    wanted = (np.mod(alpha + math.pi, 2 * math.pi) - math.pi)[:, None] + across[None, :]
-    wanted = np.sort(np.concatenate([wanted.ravel() + k * 2 * math.pi for k in (-1, 0, 1)]))
-    # each edge's span of angle, unwrapped so it runs from its start the short way round
-    phi_start = np.arctan2(-start[:, 0], start[:, 1])
-    turn = np.mod(np.arctan2(-end[:, 0], end[:, 1]) - phi_start + math.pi, 2 * math.pi) - math.pi
-    low = np.minimum(phi_start, phi_start + turn)
-    first = np.searchsorted(wanted, low, side="left")
-    count = np.searchsorted(wanted, low + np.abs(turn), side="right") - first
-    if not count.any():
-        return vertices
-    edge = np.repeat(np.arange(start.shape[0]), count)
-    k = np.arange(count.sum()) - np.repeat(np.cumsum(count) - count, count)
-    angle = wanted[first[edge] + k]
-    span = np.where(turn[edge] != 0.0, turn[edge], 1.0)
-    f = np.clip((angle - phi_start[edge]) / span, 0.0, 1.0)[:, None]
-    return np.vstack((vertices, start[edge] + f * (end[edge] - start[edge])))
-
-
 def _reach(d: Drum) -> float:
     """Half the angle (rad) over which the roller can touch a wall: its radius seen from the
     axis at the groove's floor."""
@@ -248,62 +202,113 @@ def _inside(d: Drum, r: Array) -> Mask:
     return (r > d.root + 1e-3 * d.depth) & (r < d.radius - 1e-3 * d.depth)
 
 
-def groove_lift(d: Drum, vertices: Array, theta: Array, centre: Array) -> tuple[Array, Array]:
-    """Run the roller through a groove given by mesh *vertices* (mm, as read back from a file):
-    at each cam angle *theta* the lowest and highest heights (mm) its centre can take between the
-    walls, from the wall vertices between the floor and the surface within its reach. *centre*
-    (mm) is the design's height there, which tells the lower wall's vertices from the upper's.
+def wall_pieces(d: Drum, vertices: Array, edges: Index) -> tuple[Array, Array]:
+    """The pieces of a drum's mesh (mm, as read back from a file) the roller can meet on its
+    walls: each edge that runs round the drum at one radius (a wall row, from one station to
+    the next; its ends at one radius to the float32 of an STL) strictly between the floor and
+    the surface, and each vertex there on no such edge (a piece of no length): their (P, 3)
+    starts and ends. *edges* are the mesh's edges, each once (E, 2).
 
-    The vertices should be no further apart along the groove than a fraction of the roller's
-    width (see :func:`row_points`). A vertex lies on the roller's surface when its distance
-    from the roller's axis is R: a vertex at w = r sin(ϕ − α) across the axis keeps the centre
-    at least √(R² − w²) above it (a vertex of the lower wall) or below it (of the upper wall).
-    """
-    r = np.hypot(vertices[:, 0], vertices[:, 1])
-    keep = _inside(d, r)
-    pts, r = vertices[keep], r[keep]
-    phi = np.arctan2(-pts[:, 0], pts[:, 1])
-    order = np.argsort(phi)
+    (Edges across the rows, from the floor toward the surface, are left: the straight piece of
+    a twisted quad's diagonal strays further from the wall than the rows and stations do.)"""
+    radius = np.hypot(vertices[:, 0], vertices[:, 1])
+    inside = _inside(d, radius)
+    ra, rb = radius[edges[:, 0]], radius[edges[:, 1]]
+    rows = edges[np.isclose(ra, rb, rtol=1e-6, atol=0.0) & inside[edges[:, 0]]
+                 & inside[edges[:, 1]]]
+    on_row = np.zeros(len(vertices), dtype=bool)
+    on_row[rows.ravel()] = True
+    alone = np.flatnonzero(inside & ~on_row)
+    return (np.concatenate((vertices[rows[:, 0]], vertices[alone])),
+            np.concatenate((vertices[rows[:, 1]], vertices[alone])))
+
+
+def groove_lift(d: Drum, vertices: Array, edges: Index, theta: Array,
+                centre: Array) -> tuple[Array, Array]:
+    """Run the roller through a groove given by a mesh (mm, as read back from a file: its
+    *vertices* and *edges*, each once): at each cam angle *theta* the lowest and highest
+    heights (mm) its centre can take between the walls, against the wall rows' edges and the
+    lone vertices (:func:`wall_pieces`) within its reach. *centre* (mm) is the design's height
+    there, which tells the lower wall's pieces from the upper's.
+
+    Each piece is met exactly, however long: the roller is the cylinder of radius R about its
+    radial axis, and a point w = r sin(ϕ − α) across the axis keeps the centre at least
+    √(R² − w²) above it (on the lower wall) or below it (on the upper wall). Along a straight
+    piece w and z are linear, so z + √(R² − w²) is concave in it, and its highest point is an
+    end or where the piece runs along the roller's surface, w = R z′/√(w′² + z′²) (the upper
+    wall: the lowest of z − √(R² − w²), at −w), whichever lies within the roller's reach."""
+    start, end = wall_pieces(d, vertices, edges)
+    phi_start = np.arctan2(-start[:, 0], start[:, 1])
+    turn = np.mod(np.arctan2(-end[:, 0], end[:, 1]) - phi_start + math.pi,
+                  2 * math.pi) - math.pi
+    low_phi = np.minimum(phi_start, phi_start + turn)
+    order = np.argsort(low_phi)
     # three turns side by side, so a window round the seam is one slice
-    phi = np.concatenate((phi[order] - 2 * math.pi, phi[order], phi[order] + 2 * math.pi))
-    r, z = np.tile(r[order], 3), np.tile(pts[order, 2], 3)
+    shifts = np.repeat(np.array([-2 * math.pi, 0.0, 2 * math.pi]), order.size)
+    low_phi = np.tile(low_phi[order], 3) + shifts
+    high_phi = low_phi + np.tile(np.abs(turn[order]), 3)
+    start, end = np.tile(start[order], (3, 1)), np.tile(end[order], (3, 1))
     reach = _reach(d)
+    span = float(np.max(high_phi - low_phi, initial=0.0))
     alpha = np.mod(d.axis_angle(theta) + math.pi, 2 * math.pi) - math.pi
-    first = np.searchsorted(phi, alpha - reach)
-    last = np.searchsorted(phi, alpha + reach)
+    first = np.searchsorted(low_phi, alpha - reach - span)
+    last = np.searchsorted(low_phi, alpha + reach, side="right")
     # a block of angles at a time, each block's windows at once: (angles, widest window),
     # padded and masked; as many angles to a block as keep it within LIFT_BLOCK_ELEMENTS
     widest = max(1, int(np.max(last - first, initial=0)))
     block = max(1, LIFT_BLOCK_ELEMENTS // widest)
+    pieces = (start, end, high_phi)
     low, high = np.empty(theta.size), np.empty(theta.size)
-    for start in range(0, theta.size, block):
-        rows = slice(start, start + block)
-        low[rows], high[rows] = _lift_window(d, phi, r, z, alpha[rows], first[rows],
-                                             last[rows], centre[rows])
+    for at in range(0, theta.size, block):
+        rows = slice(at, at + block)
+        low[rows], high[rows] = _lift_window(d, pieces, alpha[rows], first[rows], last[rows],
+                                             centre[rows])
     return low, high
 
 
-#: Most (angle, vertex) pairs :func:`groove_lift` holds at once: 2 M, some 16 MB per array of
-#: float64 (a groove of a hundred thousand stations has millions of vertices within the
+#: Most (angle, piece) pairs :func:`groove_lift` holds at once: 2 M, some 16 MB per array of
+#: float64 (a groove of a hundred thousand stations has millions of pieces within the
 #: roller's reach of all its angles, gigabytes at once).
 LIFT_BLOCK_ELEMENTS = 1 << 21
 
 
-def _lift_window(d: Drum, phi: Array, r: Array, z: Array, alpha: Array, first: Index,
+def _lift_window(d: Drum, pieces: tuple[Array, Array, Array], alpha: Array, first: Index,
                  last: Index, centre: Array) -> tuple[Array, Array]:
     """:func:`groove_lift` at the axis angles *alpha* (rad), whose windows of the sorted
-    vertices (polar angle *phi*, rad; radius *r* and height *z*, mm) run from *first* to
-    *last*, the design's heights *centre* (mm) there."""
+    *pieces* (starts and ends, mm, and the polar angle each reaches to, rad) run from *first*
+    to *last*, the design's heights *centre* (mm) there."""
+    start, end, high_phi = pieces
+    reach, big = _reach(d), d.roller
     index = first[:, None] + np.arange(max(1, int(np.max(last - first))))[None, :]
-    present = index < last[:, None]
-    index = np.minimum(index, phi.size - 1)
-    w = r[index] * np.sin(phi[index] - alpha[:, None])
-    reachable = present & (np.abs(w) < d.roller)
-    gap = np.sqrt(np.maximum(d.roller**2 - w**2, 0.0))
-    zk = z[index]
-    below = zk < centre[:, None]
-    low = np.max(np.where(reachable & below, zk + gap, -np.inf), axis=1)
-    high = np.min(np.where(reachable & ~below, zk - gap, np.inf), axis=1)
+    present = (index < last[:, None])
+    index = np.minimum(index, high_phi.size - 1)
+    present &= high_phi[index] >= (alpha - reach)[:, None]
+    # across the roller's axis, w = −x cos α − y sin α, and the height, at either end
+    cos, sin = np.cos(alpha)[:, None], np.sin(alpha)[:, None]
+    a, b = start[index], end[index]
+    w0 = -a[..., 0] * cos - a[..., 1] * sin
+    dw = -(b[..., 0] - a[..., 0]) * cos - (b[..., 1] - a[..., 1]) * sin
+    z0, dz = a[..., 2], b[..., 2] - a[..., 2]
+    below = z0 + 0.5 * dz < centre[:, None]
+    # the stretch of the piece within the roller's reach, |w| ≤ R: t from lo to hi
+    moving = dw != 0.0
+    step = np.where(moving, dw, 1.0)
+    t1, t2 = (-big - w0) / step, (big - w0) / step
+    lo = np.where(moving, np.maximum(np.minimum(t1, t2), 0.0), 0.0)
+    hi = np.where(moving, np.minimum(np.maximum(t1, t2), 1.0), 1.0)
+    present &= (lo <= hi) & (moving | (np.abs(w0) < big))
+    # where the piece runs along the roller's surface (the lower wall's w; the upper's is −w)
+    side = np.where(below, 1.0, -1.0)
+    along = np.hypot(dw, dz)
+    w_touch = side * big * dz * np.sign(dw) / np.where(along > 0.0, along, 1.0)
+    touch = np.clip((w_touch - w0) / step, lo, hi)
+    best = np.full(index.shape, -np.inf)
+    for t in (lo, hi, touch):
+        w = w0 + t * dw
+        best = np.maximum(best, side * (z0 + t * dz) + np.sqrt(np.maximum(big * big - w * w,
+                                                                          0.0)))
+    low = np.max(np.where(present & below, best, -np.inf), axis=1)
+    high = np.min(np.where(present & ~below, -best, np.inf), axis=1)
     return low, high
 
 

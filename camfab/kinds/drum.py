@@ -369,7 +369,7 @@ def drum_verify(analysis: Analysis, part: Part, files: PartFiles) -> Verificatio
     from camfab.curves.sampling import SAMPLING_SHARE
     from camfab.export.dxf import read_cut_outline
     from camfab.geometry.disc_geometry import LiftCheck
-    from camfab.geometry.drum_mesh import development, groove_lift, row_points
+    from camfab.geometry.drum_mesh import development, groove_lift
     from camfab.kinds.readback import groove_mesh
     from camfab.motion.program import cycle_angles
 
@@ -378,17 +378,15 @@ def drum_verify(analysis: Analysis, part: Part, files: PartFiles) -> Verificatio
     d, program = dense.drum, analysis.program
     tolerance = SAMPLING_SHARE * design.manufacturing.tolerance
     folded = _folded(analysis)
-    vertices, faces, stl_check, _ = groove_mesh(part, files, design.manufacturing.tolerance,
+    vertices, _, stl_check, edges = groove_mesh(part, files, design.manufacturing.tolerance,
                                                 folded)
     source = ("the exact walls (the groove folds: no STL)" if stl_check is None else
               f"the roller run through the groove of {design.name}.stl read back (between its "
               "wall rows)")
-    # the roller run between the wall vertices found, and points along the rows' edges between
-    # them no further apart than a quarter of the roller's radius
+    # the roller run between the wall rows' edges found, each met exactly
     theta = cycle_angles(DRUM_VERIFY_STEP)
     centre_z = d.start + program.evaluate(theta)[0]
-    surface = row_points(d, vertices, faces, d.roller / 4.0, d.axis_angle(theta))
-    low, high = groove_lift(d, surface, theta, centre_z)
+    low, high = groove_lift(d, vertices, edges, theta, centre_z)
     found = np.isfinite(low) & np.isfinite(high)  # the roller meets both walls
     error = np.full(theta.size, np.inf)
     error[found] = 0.5 * (low[found] + high[found]) - centre_z[found]
