@@ -98,3 +98,43 @@ def test_the_roller_meets_each_wall_piece_where_dense_points_along_it_say() -> N
         below = z < centre[k]
         assert 0.0 <= low[k] - np.max(z[below] + gap[below]) <= sag
         assert 0.0 <= np.min(z[~below] - gap[~below]) - high[k] <= sag
+
+
+def _developed_play(roller: float, r: float, before: float, after: float) -> float:
+    """The room (mm, along the drum's axis) a disc of radius *roller* has at the corner of a
+    path developed at radius *r* whose slope steps from *before*/r to *after*/r (s′, mm/rad):
+    the plane picture of a velocity step. The walls offset on the inside of the bend meet at a
+    point X; the disc at the corner touches the wall on the outside all round and can move
+    toward X until it reaches it."""
+    m1, m2 = before / r, after / r
+    # the offsets on the side the path bends toward, the corner at the origin
+    side = 1.0 if m2 > m1 else -1.0  # the path turns up: the inside is above it
+    c1, c2 = side * roller * math.hypot(1.0, m1), side * roller * math.hypot(1.0, m2)
+    x = (c1 - c2) / (m2 - m1)  # z = m1 x + c1 = m2 x + c2
+    z = m1 * x + c1
+    return abs(z) - math.sqrt(roller**2 - x * x)
+
+
+def test_a_velocity_step_is_a_corner_of_the_groove_and_a_design_finding(tmp_path: Path) -> None:
+    """Uniform velocity with a 12 mm roller: the tube chorded across the roller's turn at each
+    step on the outside of the bend and folded over itself on the inside (the read-back 150×
+    the tolerance, the STL not closed). The groove is now the roller's positions exactly: its
+    own surface round the outside of each step, a crease on the inside, where the roller has
+    room that no groove can take away; the ``corner`` check says how much (against the plane
+    picture at the groove's floor, where the bend is sharpest), and the files are held to the
+    groove within the tolerance."""
+    law = {"motion": [{"rise": {"angle": 150, "lift": 25, "law": "uniform-velocity"}},
+                      {"dwell": {"angle": 30}},
+                      {"return": {"angle": 150, "law": "uniform-velocity"}},
+                      {"dwell": {"angle": 30}}]}
+    check = demo_with(tmp_path, follower__roller_radius=12, **law)
+    report = json.loads((tmp_path / "out" / "demo-cylindrical-report.json").read_text())
+    corner = next(c for c in report["checks"] if c["id"] == "corner")
+    assert check["ok"], check["message"]
+    assert "closed, outward, no degenerate face, short edge or sliver" in check["message"]
+    roller, root = 12.05, 50 - 8
+    rate = 25 / math.radians(150)
+    assert not corner["ok"]
+    assert corner["value"] == pytest.approx(_developed_play(roller, root, 0.0, rate) / 2,
+                                            rel=0.01)
+    assert [a for a, _ in corner["ranges_deg"]] == [0, 150, 180, 330]

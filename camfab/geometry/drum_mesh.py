@@ -78,10 +78,10 @@ def tube_facets(d: Drum, program: MotionProgram, tolerance: float, most: int) ->
     lower = 2 * spread_count(segment, theta, density, count) * FEWEST_RING
     if lower > most:
         return lower
-    placed = spread(segment, theta, density, count)
-    m = program.evaluate(placed)
+    placed, m, added = fanned(d, program, spread(segment, theta, density, count), tolerance)
     radii = _rows(d, placed, m, tolerance)
-    floor = d.walls(placed, m[0], m[1], radii[0])
+    floor = creased(d, program, placed, added, float(radii[0]),
+                    d.walls(placed, m[0], m[1], radii[0]))
     return 2 * placed.size * (2 * radii.size + _across(d, floor, tolerance) - 1)
 
 
@@ -126,12 +126,142 @@ def _points(d: Drum, theta: Array, m: Array, r: float) -> Array:
     return np.stack((lower, upper))
 
 
+def velocity_steps(program: MotionProgram) -> list[tuple[float, float, float]]:
+    """The joints where s′ steps: their cam angle (rad) and s′ just before and after (mm/rad)."""
+    return [(j.angle, float(j.left[1]), float(j.right[1])) for j in program.joints()
+            if not math.isclose(j.left[1], j.right[1], rel_tol=1e-9, abs_tol=1e-12)]
+
+
+def fanned(d: Drum, program: MotionProgram, theta: Array,
+           tolerance: float) -> tuple[Array, Array, Mask]:
+    """The *theta* (rad, the stations, every joint among them) and s, s′, s″, s‴ there, with
+    sections added at each joint where s′ steps: the roller stands still there while its
+    contact turns from the line of s′ before to that of s′ after, and its own surface is the
+    wall between (a wall point, for any s′, lies on the roller at its cam angle: see
+    :meth:`~camfab.geometry.drum.Drum.walls`). As many sections as keep the chords of that
+    surface (the roller's radius R) within *tolerance* (mm) at the groove's floor, where the
+    contact turns furthest. Third, which sections are the added ones."""
+    m = program.evaluate(theta)
+    steps = velocity_steps(program)
+    if not steps:
+        return theta, m, np.zeros(theta.size, dtype=bool)
+    chord = 2.0 * math.acos(max(-1.0, 1.0 - tolerance / d.roller))
+    angles, columns = [theta], [m]
+    for angle, before, after in steps:
+        turn = abs(math.atan2(after, d.root) - math.atan2(before, d.root))
+        count = max(2, math.ceil(turn / chord))
+        ds = before + (after - before) * np.arange(count) / count  # s′ after is the joint's
+        at = program.evaluate(np.full(count, angle))
+        at[1], at[2], at[3] = ds, 0.0, 0.0
+        angles.append(np.full(count, angle))
+        columns.append(at)
+    # at a joint the added sections (s′ from before on) come before the joint's own (s′ after)
+    theta = np.concatenate(angles)
+    added = np.concatenate([np.zeros(angles[0].size, dtype=bool),
+                            *[np.ones(a.size, dtype=bool) for a in angles[1:]]])
+    order = np.lexsort((~added, np.mod(theta, 2.0 * math.pi)))
+    return theta[order], np.concatenate(columns, axis=1)[:, order], added[order]
+
+
+#: Points along each wall's track either side of a velocity step, where its crease is sought,
+#: then again between the two found to cross.
+CREASE_POINTS = 128
+
+
+def creased(d: Drum, program: MotionProgram, theta: Array, added: Mask, r: float,
+            walls: Walls) -> Walls:
+    """*walls* at radius *r* (mm) at the sections *theta* (rad; *added*: the sections of
+    :func:`fanned`) trimmed at each velocity step's crease: on the inside of the bend the wall
+    swept before the step and the one swept after cross, and what lies beyond their crossing is
+    inside the roller at other angles (air, not wall). Every section between the crossing's cam
+    angle before the step and its cam angle after it has its inner wall point there instead:
+    the crease, where the two walls meet. (On the outside of the bend the added sections are
+    the roller's own surface, and nothing is trimmed.)"""
+    out = {f: np.array(getattr(walls, f)) for f in ("phi_lower", "z_lower", "phi_upper",
+                                                    "z_upper")}
+    reach = 2.0 * _reach(d)
+    for angle, before, _ in velocity_steps(program):
+        u = np.linspace(0.0, 1.0, CREASE_POINTS)
+        # each wall's track in (ϕ, z), before and after the step, near it
+        t_before, t_after = angle - reach * u[::-1], angle + reach * u
+        for lower in (True, False):
+            hit = _crossing(d, program, angle, before, r, lower, t_before, t_after)
+            if hit is None:
+                continue
+            t1, t2, phi_x, z_x = hit
+            delta = np.mod(theta - angle + math.pi, 2.0 * math.pi) - math.pi
+            trim = (added & (delta == 0.0)) | ((delta < 0.0) & (delta > t1 - angle)) | (
+                (delta >= 0.0) & ~added & (delta < t2 - angle))
+            key = "lower" if lower else "upper"
+            phi = out[f"phi_{key}"]  # the crease, on the turn each section's wall is on
+            phi[trim] = phi_x + 2.0 * math.pi * np.round((phi[trim] - phi_x) / (2.0 * math.pi))
+            out[f"z_{key}"][trim] = z_x
+    return Walls(**out)
+
+
+def _crossing(d: Drum, program: MotionProgram, angle: float, before: float, r: float,
+              lower: bool, t_before: Array,
+              t_after: Array) -> tuple[float, float, float, float] | None:
+    """Where a wall's track at radius *r* (mm) swept before the velocity step at *angle* (rad;
+    s′ *before* there, mm/rad) over the cam angles *t_before* crosses the one swept after it
+    over *t_after*: its cam angle on either (rad), and its polar angle (rad) and height (mm);
+    None when they do not cross. The crossing of the tracks' polylines, found again between
+    the pieces found to cross, :data:`CREASE_POINTS` to each."""
+    for _ in range(2):
+        a = _track(d, program, angle, before, r, lower, t_before)
+        b = _track(d, program, angle, before, r, lower, t_after)
+        hit = _polylines_cross(a, b)
+        if hit is None:
+            return None
+        i, j, fa, fb = hit
+        t1 = t_before[i] + fa * (t_before[i + 1] - t_before[i])
+        t2 = t_after[j] + fb * (t_after[j + 1] - t_after[j])
+        point = a[i] + fa * (a[i + 1] - a[i])
+        t_before = np.linspace(t_before[i], t_before[i + 1], CREASE_POINTS)
+        t_after = np.linspace(t_after[j], t_after[j + 1], CREASE_POINTS)
+    return t1, t2, float(point[0]), float(point[1])
+
+
+def _track(d: Drum, program: MotionProgram, angle: float, before: float, r: float,
+           lower: bool, t: Array) -> Array:
+    """A wall's track at radius *r* (mm) over cam angles *t* (rad, on one side of the velocity
+    step at *angle*, which takes s′ *before* there when *t* runs before it): (N, 2) polar
+    angle (rad, unwrapped about the step's axis angle) and height (mm)."""
+    m = program.evaluate(t)
+    if t[-1] <= angle:  # the track before the step ends at the step, with s′ before
+        m[1, -1] = before
+        m[2:, -1] = 0.0
+    w = d.walls(t, m[0], m[1], r)
+    phi, z = (w.phi_lower, w.z_lower) if lower else (w.phi_upper, w.z_upper)
+    centre = float(d.axis_angle(np.array([angle]))[0])
+    return np.column_stack((np.mod(phi - centre + math.pi, 2.0 * math.pi) - math.pi + centre, z))
+
+
+def _polylines_cross(a: Array, b: Array) -> tuple[int, int, float, float] | None:
+    """The first crossing of the polylines *a* and *b* ((N, 2) each): the pieces' indices and
+    how far along each (0 to 1); None when they do not cross."""
+    p, q = a[:-1, None, :], b[None, :-1, :]
+    da, db = (a[1:] - a[:-1])[:, None, :], (b[1:] - b[:-1])[None, :, :]
+    denom = da[..., 0] * db[..., 1] - da[..., 1] * db[..., 0]
+    gap = q - p
+    with np.errstate(divide="ignore", invalid="ignore"):
+        fa = (gap[..., 0] * db[..., 1] - gap[..., 1] * db[..., 0]) / denom
+        fb = (gap[..., 0] * da[..., 1] - gap[..., 1] * da[..., 0]) / denom
+    inside = (denom != 0.0) & (fa >= 0.0) & (fa <= 1.0) & (fb >= 0.0) & (fb <= 1.0)
+    found = np.argwhere(inside)
+    if found.size == 0:
+        return None
+    # the crossing nearest the step: the last piece before it, the first after it
+    i, j = max(found.tolist(), key=lambda k: (k[0], -k[1]))
+    return i, j, float(fa[i, j]), float(fb[i, j])
+
+
 def groove_tube(d: Drum, program: MotionProgram, tolerance: float) -> Tube:
     """The groove as one closed tube, its chords within *tolerance* (mm) of the exact walls."""
-    theta = stations(d, program, tolerance)
-    m = program.evaluate(theta)
+    theta, m, added = fanned(d, program, stations(d, program, tolerance), tolerance)
     radii = _rows(d, theta, m, tolerance)
-    walls = [d.walls(theta, m[0], m[1], r) for r in radii]
+    walls = [creased(d, program, theta, added, r, d.walls(theta, m[0], m[1], r))
+             for r in radii]
     floor = walls[0]
     across = _across(d, floor, tolerance)
     # the cross-section, per station: (phi, r, z) columns around the ring
@@ -319,7 +449,9 @@ def tube_surfaces(d: Drum, program: MotionProgram, tube: Tube) -> tuple[tuple[Ar
     on its circle from the lower wall's foot to the upper's, and the top across beyond the
     surface (:class:`camfab.export.part.Mesh`); and probes, points of the exact walls halfway
     between the stations and between the rows, to measure the surfaces by."""
-    theta, radii = tube.stations, tube.radii
+    # one grid row per cam angle: the sections a velocity step adds (:func:`fanned`) share
+    # theirs with the joint's own
+    theta, radii = np.unique(tube.stations), tube.radii
     m = program.evaluate(theta)
 
     def wall(side: int, t: Array, mm: Array, r: Array) -> Array:
@@ -343,3 +475,39 @@ def tube_surfaces(d: Drum, program: MotionProgram, tube: Tube) -> tuple[tuple[Ar
     probes = np.concatenate([wall(side, middle, mid_m, mid_r[inside]).reshape(-1, 3)
                              for side in (-1, 1)])
     return grids, probes
+
+
+#: Radii from the groove's floor to the drum's surface at which a velocity step's crease is
+#: found to measure the roller's play there (:func:`corner_play`).
+PLAY_RADII = 33
+
+
+def corner_play(d: Drum, program: MotionProgram) -> list[tuple[float, float]]:
+    """At each velocity step of *program*: its cam angle (rad) and how far (mm) the roller can
+    move off the design there in the exact groove (the union of the roller's positions).
+
+    On the inside of the bend the walls swept before and after the step meet in a crease
+    (:func:`_crossing`) further from the roller's axis than its radius: at the step the roller
+    touches neither, and can move toward the crease until it meets it; on the outside of the
+    bend it touches its own surface, swept as it turns, and cannot move. A crease point at w
+    across the axis and height z stops the centre √(R² − w²) from it. The play is the largest
+    over the crease's radii (from the floor to the surface)."""
+    out = []
+    reach = 2.0 * _reach(d)
+    u = np.linspace(0.0, 1.0, CREASE_POINTS)
+    for angle, before, _ in velocity_steps(program):
+        centre = d.start + float(program.evaluate(np.array([angle]))[0, 0])
+        alpha = float(d.axis_angle(np.array([angle]))[0])
+        play = 0.0
+        for r in np.linspace(d.root, d.radius, PLAY_RADII):
+            for lower in (True, False):
+                hit = _crossing(d, program, angle, before, float(r), lower,
+                                angle - reach * u[::-1], angle + reach * u)
+                if hit is None:
+                    continue
+                w = r * math.sin(hit[2] - alpha)
+                gap = math.sqrt(max(d.roller**2 - w * w, 0.0))
+                stop = hit[3] + gap if lower else hit[3] - gap
+                play = max(play, abs(centre - stop))
+        out.append((angle, play))
+    return out
