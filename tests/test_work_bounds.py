@@ -221,6 +221,7 @@ def test_stations_are_counted_as_spread() -> None:
 
 def test_the_roller_run_through_a_drum_in_blocks_is_the_run_at_once(
         monkeypatch: pytest.MonkeyPatch) -> None:
+    from camfab.arrays import edge_groups
     from camfab.geometry import drum_mesh
     from camfab.geometry.drum import drum
     from camfab.motion.program import cycle_angles
@@ -230,9 +231,10 @@ def test_the_roller_run_through_a_drum_in_blocks_is_the_run_at_once(
     tube = drum_mesh.groove_tube(d, program, 0.0005)
     theta = cycle_angles(math.radians(0.5))
     centre = d.start + program.evaluate(theta)[0]
-    whole = drum_mesh.groove_lift(d, tube.vertices, theta, centre)
+    edges = edge_groups(tube.faces, len(tube.vertices))[0]
+    whole = drum_mesh.groove_lift(d, tube.vertices, edges, theta, centre)
     monkeypatch.setattr(drum_mesh, "LIFT_BLOCK_ELEMENTS", 5000)
-    blocks = drum_mesh.groove_lift(d, tube.vertices, theta, centre)
+    blocks = drum_mesh.groove_lift(d, tube.vertices, edges, theta, centre)
     for a, b in zip(whole, blocks, strict=True):
         assert np.array_equal(a, b)
 

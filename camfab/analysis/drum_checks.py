@@ -99,10 +99,43 @@ def groove_finding(design: Design, dense: DrumDense, numbers: DrumNumbers) -> Fi
         f"a longer segment or a smaller roller avoids it", smallest.value, roller, "mm", ranges)
 
 
+def corner_finding(design: Design, dense: DrumDense) -> Finding | None:
+    """At a velocity step the groove has a corner on the inside of the bend, where the walls
+    swept before and after the step meet further from the roller's axis than its radius: the
+    exact groove (every position of the roller) leaves it room there
+    (:func:`~camfab.geometry.drum_mesh.corner_play`), and the middle of that room, which the
+    read-back takes for the follower's place, lies half of it off the design. Within the
+    tolerance the groove holds the motion; beyond it no groove does. None for a motion whose
+    velocity has no step."""
+    from camfab.geometry.drum_mesh import corner_play
+
+    tolerance = design.manufacturing.tolerance
+    plays = corner_play(dense.drum, design.program)
+    if not plays:
+        return None
+    off = [(math.degrees(angle), play / 2.0) for angle, play in plays]
+    worst_at, worst = max(off, key=lambda item: item[1])
+    over = tuple((a, a) for a, half in off if half > tolerance)
+    said = (f"at the velocity steps ({', '.join(f'{fmt(a)}°' for a, _ in off)}) the groove has "
+            f"a corner on the inside of the bend that the roller cannot fill: the exact groove "
+            f"lets it move up to {fmt(2.0 * worst)} mm there, and the middle of its room lies "
+            f"{fmt(worst)} mm off the design at {fmt(worst_at)}°")
+    if not over:
+        return Finding("corner", True, "error", f"{said}, within the tolerance "
+                       f"{fmt(tolerance)} mm", worst, tolerance, "mm")
+    return Finding("corner", False, "error",
+                   f"{said}, over the tolerance {fmt(tolerance)} mm: no groove holds this motion "
+                   f"within the tolerance there; a motion law without a velocity step "
+                   f"(modified-uniform-velocity, cycloidal, ...) makes it buildable, a larger "
+                   f"drum or a smaller roller makes the corner shallower", worst, tolerance,
+                   "mm", over)
+
+
 def drum_findings(design: Design, dense: DrumDense, numbers: DrumNumbers) -> list[Finding]:
     """Every geometric check of a drum cam."""
+    corner = corner_finding(design, dense)
     return [drum_pressure_finding(design, dense, numbers),
-            groove_finding(design, dense, numbers)]
+            groove_finding(design, dense, numbers), *([corner] if corner else [])]
 
 
 def drum_problem(design: Design, grid_pair: tuple[Grid, Grid]) -> SizeProblem:

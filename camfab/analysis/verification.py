@@ -37,6 +37,12 @@ class Verification:
     #: design on purpose: the follower's lift over the geometry as written less its lift over
     #: the cut cam (None when there is no such reference: a folded groove).
     cut_error: LiftCheck | None = None
+    #: Why the motion of the cam camfab computed departs from the design (``cut_error``), the
+    #: check that says by how much, that cam, and where it follows the design.
+    departs_because: str = "the cam is undercut"
+    departs_check: str = "undercut"
+    departs_cam: str = "the cut cam"
+    departs_by: str = "the undercut leaves it"
     #: The STEP read back (when one is made).
     step: StepCheck | None = None
     #: The outputs asked for that this part could not have, each with why.

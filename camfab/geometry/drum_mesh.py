@@ -78,10 +78,10 @@ def tube_facets(d: Drum, program: MotionProgram, tolerance: float, most: int) ->
     lower = 2 * spread_count(segment, theta, density, count) * FEWEST_RING
     if lower > most:
         return lower
-    placed = spread(segment, theta, density, count)
-    m = program.evaluate(placed)
+    placed, m, added = fanned(d, program, spread(segment, theta, density, count), tolerance)
     radii = _rows(d, placed, m, tolerance)
-    floor = d.walls(placed, m[0], m[1], radii[0])
+    floor = creased(d, program, placed, added, float(radii[0]),
+                    d.walls(placed, m[0], m[1], radii[0]))
     return 2 * placed.size * (2 * radii.size + _across(d, floor, tolerance) - 1)
 
 
@@ -126,12 +126,142 @@ def _points(d: Drum, theta: Array, m: Array, r: float) -> Array:
     return np.stack((lower, upper))
 
 
+def velocity_steps(program: MotionProgram) -> list[tuple[float, float, float]]:
+    """The joints where s′ steps: their cam angle (rad) and s′ just before and after (mm/rad)."""
+    return [(j.angle, float(j.left[1]), float(j.right[1])) for j in program.joints()
+            if not math.isclose(j.left[1], j.right[1], rel_tol=1e-9, abs_tol=1e-12)]
+
+
+def fanned(d: Drum, program: MotionProgram, theta: Array,
+           tolerance: float) -> tuple[Array, Array, Mask]:
+    """The *theta* (rad, the stations, every joint among them) and s, s′, s″, s‴ there, with
+    sections added at each joint where s′ steps: the roller stands still there while its
+    contact turns from the line of s′ before to that of s′ after, and its own surface is the
+    wall between (a wall point, for any s′, lies on the roller at its cam angle: see
+    :meth:`~camfab.geometry.drum.Drum.walls`). As many sections as keep the chords of that
+    surface (the roller's radius R) within *tolerance* (mm) at the groove's floor, where the
+    contact turns furthest. Third, which sections are the added ones."""
+    m = program.evaluate(theta)
+    steps = velocity_steps(program)
+    if not steps:
+        return theta, m, np.zeros(theta.size, dtype=bool)
+    chord = 2.0 * math.acos(max(-1.0, 1.0 - tolerance / d.roller))
+    angles, columns = [theta], [m]
+    for angle, before, after in steps:
+        turn = abs(math.atan2(after, d.root) - math.atan2(before, d.root))
+        count = max(2, math.ceil(turn / chord))
+        ds = before + (after - before) * np.arange(count) / count  # s′ after is the joint's
+        at = program.evaluate(np.full(count, angle))
+        at[1], at[2], at[3] = ds, 0.0, 0.0
+        angles.append(np.full(count, angle))
+        columns.append(at)
+    # at a joint the added sections (s′ from before on) come before the joint's own (s′ after)
+    theta = np.concatenate(angles)
+    added = np.concatenate([np.zeros(angles[0].size, dtype=bool),
+                            *[np.ones(a.size, dtype=bool) for a in angles[1:]]])
+    order = np.lexsort((~added, np.mod(theta, 2.0 * math.pi)))
+    return theta[order], np.concatenate(columns, axis=1)[:, order], added[order]
+
+
+#: Points along each wall's track either side of a velocity step, where its crease is sought,
+#: then again between the two found to cross.
+CREASE_POINTS = 128
+
+
+def creased(d: Drum, program: MotionProgram, theta: Array, added: Mask, r: float,
+            walls: Walls) -> Walls:
+    """*walls* at radius *r* (mm) at the sections *theta* (rad; *added*: the sections of
+    :func:`fanned`) trimmed at each velocity step's crease: on the inside of the bend the wall
+    swept before the step and the one swept after cross, and what lies beyond their crossing is
+    inside the roller at other angles (air, not wall). Every section between the crossing's cam
+    angle before the step and its cam angle after it has its inner wall point there instead:
+    the crease, where the two walls meet. (On the outside of the bend the added sections are
+    the roller's own surface, and nothing is trimmed.)"""
+    out = {f: np.array(getattr(walls, f)) for f in ("phi_lower", "z_lower", "phi_upper",
+                                                    "z_upper")}
+    reach = 2.0 * _reach(d)
+    for angle, before, _ in velocity_steps(program):
+        u = np.linspace(0.0, 1.0, CREASE_POINTS)
+        # each wall's track in (ϕ, z), before and after the step, near it
+        t_before, t_after = angle - reach * u[::-1], angle + reach * u
+        for lower in (True, False):
+            hit = _crossing(d, program, angle, before, r, lower, t_before, t_after)
+            if hit is None:
+                continue
+            t1, t2, phi_x, z_x = hit
+            delta = np.mod(theta - angle + math.pi, 2.0 * math.pi) - math.pi
+            trim = (added & (delta == 0.0)) | ((delta < 0.0) & (delta > t1 - angle)) | (
+                (delta >= 0.0) & ~added & (delta < t2 - angle))
+            key = "lower" if lower else "upper"
+            phi = out[f"phi_{key}"]  # the crease, on the turn each section's wall is on
+            phi[trim] = phi_x + 2.0 * math.pi * np.round((phi[trim] - phi_x) / (2.0 * math.pi))
+            out[f"z_{key}"][trim] = z_x
+    return Walls(**out)
+
+
+def _crossing(d: Drum, program: MotionProgram, angle: float, before: float, r: float,
+              lower: bool, t_before: Array,
+              t_after: Array) -> tuple[float, float, float, float] | None:
+    """Where a wall's track at radius *r* (mm) swept before the velocity step at *angle* (rad;
+    s′ *before* there, mm/rad) over the cam angles *t_before* crosses the one swept after it
+    over *t_after*: its cam angle on either (rad), and its polar angle (rad) and height (mm);
+    None when they do not cross. The crossing of the tracks' polylines, found again between
+    the pieces found to cross, :data:`CREASE_POINTS` to each."""
+    for _ in range(2):
+        a = _track(d, program, angle, before, r, lower, t_before)
+        b = _track(d, program, angle, before, r, lower, t_after)
+        hit = _polylines_cross(a, b)
+        if hit is None:
+            return None
+        i, j, fa, fb = hit
+        t1 = t_before[i] + fa * (t_before[i + 1] - t_before[i])
+        t2 = t_after[j] + fb * (t_after[j + 1] - t_after[j])
+        point = a[i] + fa * (a[i + 1] - a[i])
+        t_before = np.linspace(t_before[i], t_before[i + 1], CREASE_POINTS)
+        t_after = np.linspace(t_after[j], t_after[j + 1], CREASE_POINTS)
+    return t1, t2, float(point[0]), float(point[1])
+
+
+def _track(d: Drum, program: MotionProgram, angle: float, before: float, r: float,
+           lower: bool, t: Array) -> Array:
+    """A wall's track at radius *r* (mm) over cam angles *t* (rad, on one side of the velocity
+    step at *angle*, which takes s′ *before* there when *t* runs before it): (N, 2) polar
+    angle (rad, unwrapped about the step's axis angle) and height (mm)."""
+    m = program.evaluate(t)
+    if t[-1] <= angle:  # the track before the step ends at the step, with s′ before
+        m[1, -1] = before
+        m[2:, -1] = 0.0
+    w = d.walls(t, m[0], m[1], r)
+    phi, z = (w.phi_lower, w.z_lower) if lower else (w.phi_upper, w.z_upper)
+    centre = float(d.axis_angle(np.array([angle]))[0])
+    return np.column_stack((np.mod(phi - centre + math.pi, 2.0 * math.pi) - math.pi + centre, z))
+
+
+def _polylines_cross(a: Array, b: Array) -> tuple[int, int, float, float] | None:
+    """The first crossing of the polylines *a* and *b* ((N, 2) each): the pieces' indices and
+    how far along each (0 to 1); None when they do not cross."""
+    p, q = a[:-1, None, :], b[None, :-1, :]
+    da, db = (a[1:] - a[:-1])[:, None, :], (b[1:] - b[:-1])[None, :, :]
+    denom = da[..., 0] * db[..., 1] - da[..., 1] * db[..., 0]
+    gap = q - p
+    with np.errstate(divide="ignore", invalid="ignore"):
+        fa = (gap[..., 0] * db[..., 1] - gap[..., 1] * db[..., 0]) / denom
+        fb = (gap[..., 0] * da[..., 1] - gap[..., 1] * da[..., 0]) / denom
+    inside = (denom != 0.0) & (fa >= 0.0) & (fa <= 1.0) & (fb >= 0.0) & (fb <= 1.0)
+    found = np.argwhere(inside)
+    if found.size == 0:
+        return None
+    # the crossing nearest the step: the last piece before it, the first after it
+    i, j = max(found.tolist(), key=lambda k: (k[0], -k[1]))
+    return i, j, float(fa[i, j]), float(fb[i, j])
+
+
 def groove_tube(d: Drum, program: MotionProgram, tolerance: float) -> Tube:
     """The groove as one closed tube, its chords within *tolerance* (mm) of the exact walls."""
-    theta = stations(d, program, tolerance)
-    m = program.evaluate(theta)
+    theta, m, added = fanned(d, program, stations(d, program, tolerance), tolerance)
     radii = _rows(d, theta, m, tolerance)
-    walls = [d.walls(theta, m[0], m[1], r) for r in radii]
+    walls = [creased(d, program, theta, added, r, d.walls(theta, m[0], m[1], r))
+             for r in radii]
     floor = walls[0]
     across = _across(d, floor, tolerance)
     # the cross-section, per station: (phi, r, z) columns around the ring
@@ -191,52 +321,6 @@ def development(d: Drum, program: MotionProgram, tolerance: float) -> Developmen
                        unrolled(alpha, d.start + m[0]), 2.0 * math.pi * d.radius, d.length)
 
 
-def row_points(d: Drum, vertices: Array, faces: Array, spacing: float, alpha: Array) -> Array:
-    """Points on the walls of a drum's mesh (mm) where a roller whose axis is at the angles
-    *alpha* (rad, about Z from +Y) can touch them: the mesh's vertices, and points along each
-    edge that runs round the drum at one radius between the floor and the surface (a wall row,
-    from one station to the next), at most *spacing* (mm) apart within the roller's reach of
-    each angle. In a dwell the wall is flat, and one face may span a degree of the drum however
-    large the drum is: wider than the roller, which would find no vertex there. Only the
-    stretches within reach are filled, so a drum of any size costs points in proportion to the
-    angles, not to its circumference.
-    (Edges across the rows, from the floor toward the surface, are left: the straight piece of
-    a twisted quad's diagonal strays further from the wall than the rows and stations do.)"""
-    radius = np.hypot(vertices[:, 0], vertices[:, 1])
-    # each edge of each face (an edge shared by two faces is taken twice: its points repeat,
-    # which changes no extreme); kept when both ends are one wall row (to the float32 of an
-    # STL) between the floor and the surface, not the drum's outer surface or its ends
-    edges = np.concatenate((faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]))
-    ra, rb = radius[edges[:, 0]], radius[edges[:, 1]]
-    edges = edges[np.isclose(ra, rb, rtol=1e-6, atol=0.0) & _inside(d, ra)]
-    start, end = vertices[edges[:, 0]], vertices[edges[:, 1]]
-    long = np.linalg.norm(end - start, axis=1) > spacing
-    if not long.any():
-        return vertices
-    start, end = start[long], end[long]
-    # the angles to fill: across the roller's reach of each axis angle, *spacing* apart at
-    # the surface, and their copies a turn either way (an edge may cross the seam at ±π)
-    reach = _reach(d)
-    across = np.linspace(-reach, reach, int(min(64, math.ceil(2 * reach * d.radius / spacing)))
-                         + 1)
-    wanted = (np.mod(alpha + math.pi, 2 * math.pi) - math.pi)[:, None] + across[None, :]
-    wanted = np.sort(np.concatenate([wanted.ravel() + k * 2 * math.pi for k in (-1, 0, 1)]))
-    # each edge's span of angle, unwrapped so it runs from its start the short way round
-    phi_start = np.arctan2(-start[:, 0], start[:, 1])
-    turn = np.mod(np.arctan2(-end[:, 0], end[:, 1]) - phi_start + math.pi, 2 * math.pi) - math.pi
-    low = np.minimum(phi_start, phi_start + turn)
-    first = np.searchsorted(wanted, low, side="left")
-    count = np.searchsorted(wanted, low + np.abs(turn), side="right") - first
-    if not count.any():
-        return vertices
-    edge = np.repeat(np.arange(start.shape[0]), count)
-    k = np.arange(count.sum()) - np.repeat(np.cumsum(count) - count, count)
-    angle = wanted[first[edge] + k]
-    span = np.where(turn[edge] != 0.0, turn[edge], 1.0)
-    f = np.clip((angle - phi_start[edge]) / span, 0.0, 1.0)[:, None]
-    return np.vstack((vertices, start[edge] + f * (end[edge] - start[edge])))
-
-
 def _reach(d: Drum) -> float:
     """Half the angle (rad) over which the roller can touch a wall: its radius seen from the
     axis at the groove's floor."""
@@ -248,62 +332,113 @@ def _inside(d: Drum, r: Array) -> Mask:
     return (r > d.root + 1e-3 * d.depth) & (r < d.radius - 1e-3 * d.depth)
 
 
-def groove_lift(d: Drum, vertices: Array, theta: Array, centre: Array) -> tuple[Array, Array]:
-    """Run the roller through a groove given by mesh *vertices* (mm, as read back from a file):
-    at each cam angle *theta* the lowest and highest heights (mm) its centre can take between the
-    walls, from the wall vertices between the floor and the surface within its reach. *centre*
-    (mm) is the design's height there, which tells the lower wall's vertices from the upper's.
+def wall_pieces(d: Drum, vertices: Array, edges: Index) -> tuple[Array, Array]:
+    """The pieces of a drum's mesh (mm, as read back from a file) the roller can meet on its
+    walls: each edge that runs round the drum at one radius (a wall row, from one station to
+    the next; its ends at one radius to the float32 of an STL) strictly between the floor and
+    the surface, and each vertex there on no such edge (a piece of no length): their (P, 3)
+    starts and ends. *edges* are the mesh's edges, each once (E, 2).
 
-    The vertices should be no further apart along the groove than a fraction of the roller's
-    width (see :func:`row_points`). A vertex lies on the roller's surface when its distance
-    from the roller's axis is R: a vertex at w = r sin(ϕ − α) across the axis keeps the centre
-    at least √(R² − w²) above it (a vertex of the lower wall) or below it (of the upper wall).
-    """
-    r = np.hypot(vertices[:, 0], vertices[:, 1])
-    keep = _inside(d, r)
-    pts, r = vertices[keep], r[keep]
-    phi = np.arctan2(-pts[:, 0], pts[:, 1])
-    order = np.argsort(phi)
+    (Edges across the rows, from the floor toward the surface, are left: the straight piece of
+    a twisted quad's diagonal strays further from the wall than the rows and stations do.)"""
+    radius = np.hypot(vertices[:, 0], vertices[:, 1])
+    inside = _inside(d, radius)
+    ra, rb = radius[edges[:, 0]], radius[edges[:, 1]]
+    rows = edges[np.isclose(ra, rb, rtol=1e-6, atol=0.0) & inside[edges[:, 0]]
+                 & inside[edges[:, 1]]]
+    on_row = np.zeros(len(vertices), dtype=bool)
+    on_row[rows.ravel()] = True
+    alone = np.flatnonzero(inside & ~on_row)
+    return (np.concatenate((vertices[rows[:, 0]], vertices[alone])),
+            np.concatenate((vertices[rows[:, 1]], vertices[alone])))
+
+
+def groove_lift(d: Drum, vertices: Array, edges: Index, theta: Array,
+                centre: Array) -> tuple[Array, Array]:
+    """Run the roller through a groove given by a mesh (mm, as read back from a file: its
+    *vertices* and *edges*, each once): at each cam angle *theta* the lowest and highest
+    heights (mm) its centre can take between the walls, against the wall rows' edges and the
+    lone vertices (:func:`wall_pieces`) within its reach. *centre* (mm) is the design's height
+    there, which tells the lower wall's pieces from the upper's.
+
+    Each piece is met exactly, however long: the roller is the cylinder of radius R about its
+    radial axis, and a point w = r sin(ϕ − α) across the axis keeps the centre at least
+    √(R² − w²) above it (on the lower wall) or below it (on the upper wall). Along a straight
+    piece w and z are linear, so z + √(R² − w²) is concave in it, and its highest point is an
+    end or where the piece runs along the roller's surface, w = R z′/√(w′² + z′²) (the upper
+    wall: the lowest of z − √(R² − w²), at −w), whichever lies within the roller's reach."""
+    start, end = wall_pieces(d, vertices, edges)
+    phi_start = np.arctan2(-start[:, 0], start[:, 1])
+    turn = np.mod(np.arctan2(-end[:, 0], end[:, 1]) - phi_start + math.pi,
+                  2 * math.pi) - math.pi
+    low_phi = np.minimum(phi_start, phi_start + turn)
+    order = np.argsort(low_phi)
     # three turns side by side, so a window round the seam is one slice
-    phi = np.concatenate((phi[order] - 2 * math.pi, phi[order], phi[order] + 2 * math.pi))
-    r, z = np.tile(r[order], 3), np.tile(pts[order, 2], 3)
+    shifts = np.repeat(np.array([-2 * math.pi, 0.0, 2 * math.pi]), order.size)
+    low_phi = np.tile(low_phi[order], 3) + shifts
+    high_phi = low_phi + np.tile(np.abs(turn[order]), 3)
+    start, end = np.tile(start[order], (3, 1)), np.tile(end[order], (3, 1))
     reach = _reach(d)
+    span = float(np.max(high_phi - low_phi, initial=0.0))
     alpha = np.mod(d.axis_angle(theta) + math.pi, 2 * math.pi) - math.pi
-    first = np.searchsorted(phi, alpha - reach)
-    last = np.searchsorted(phi, alpha + reach)
+    first = np.searchsorted(low_phi, alpha - reach - span)
+    last = np.searchsorted(low_phi, alpha + reach, side="right")
     # a block of angles at a time, each block's windows at once: (angles, widest window),
     # padded and masked; as many angles to a block as keep it within LIFT_BLOCK_ELEMENTS
     widest = max(1, int(np.max(last - first, initial=0)))
     block = max(1, LIFT_BLOCK_ELEMENTS // widest)
+    pieces = (start, end, high_phi)
     low, high = np.empty(theta.size), np.empty(theta.size)
-    for start in range(0, theta.size, block):
-        rows = slice(start, start + block)
-        low[rows], high[rows] = _lift_window(d, phi, r, z, alpha[rows], first[rows],
-                                             last[rows], centre[rows])
+    for at in range(0, theta.size, block):
+        rows = slice(at, at + block)
+        low[rows], high[rows] = _lift_window(d, pieces, alpha[rows], first[rows], last[rows],
+                                             centre[rows])
     return low, high
 
 
-#: Most (angle, vertex) pairs :func:`groove_lift` holds at once: 2 M, some 16 MB per array of
-#: float64 (a groove of a hundred thousand stations has millions of vertices within the
+#: Most (angle, piece) pairs :func:`groove_lift` holds at once: 2 M, some 16 MB per array of
+#: float64 (a groove of a hundred thousand stations has millions of pieces within the
 #: roller's reach of all its angles, gigabytes at once).
 LIFT_BLOCK_ELEMENTS = 1 << 21
 
 
-def _lift_window(d: Drum, phi: Array, r: Array, z: Array, alpha: Array, first: Index,
+def _lift_window(d: Drum, pieces: tuple[Array, Array, Array], alpha: Array, first: Index,
                  last: Index, centre: Array) -> tuple[Array, Array]:
     """:func:`groove_lift` at the axis angles *alpha* (rad), whose windows of the sorted
-    vertices (polar angle *phi*, rad; radius *r* and height *z*, mm) run from *first* to
-    *last*, the design's heights *centre* (mm) there."""
+    *pieces* (starts and ends, mm, and the polar angle each reaches to, rad) run from *first*
+    to *last*, the design's heights *centre* (mm) there."""
+    start, end, high_phi = pieces
+    reach, big = _reach(d), d.roller
     index = first[:, None] + np.arange(max(1, int(np.max(last - first))))[None, :]
-    present = index < last[:, None]
-    index = np.minimum(index, phi.size - 1)
-    w = r[index] * np.sin(phi[index] - alpha[:, None])
-    reachable = present & (np.abs(w) < d.roller)
-    gap = np.sqrt(np.maximum(d.roller**2 - w**2, 0.0))
-    zk = z[index]
-    below = zk < centre[:, None]
-    low = np.max(np.where(reachable & below, zk + gap, -np.inf), axis=1)
-    high = np.min(np.where(reachable & ~below, zk - gap, np.inf), axis=1)
+    present = (index < last[:, None])
+    index = np.minimum(index, high_phi.size - 1)
+    present &= high_phi[index] >= (alpha - reach)[:, None]
+    # across the roller's axis, w = −x cos α − y sin α, and the height, at either end
+    cos, sin = np.cos(alpha)[:, None], np.sin(alpha)[:, None]
+    a, b = start[index], end[index]
+    w0 = -a[..., 0] * cos - a[..., 1] * sin
+    dw = -(b[..., 0] - a[..., 0]) * cos - (b[..., 1] - a[..., 1]) * sin
+    z0, dz = a[..., 2], b[..., 2] - a[..., 2]
+    below = z0 + 0.5 * dz < centre[:, None]
+    # the stretch of the piece within the roller's reach, |w| ≤ R: t from lo to hi
+    moving = dw != 0.0
+    step = np.where(moving, dw, 1.0)
+    t1, t2 = (-big - w0) / step, (big - w0) / step
+    lo = np.where(moving, np.maximum(np.minimum(t1, t2), 0.0), 0.0)
+    hi = np.where(moving, np.minimum(np.maximum(t1, t2), 1.0), 1.0)
+    present &= (lo <= hi) & (moving | (np.abs(w0) < big))
+    # where the piece runs along the roller's surface (the lower wall's w; the upper's is −w)
+    side = np.where(below, 1.0, -1.0)
+    along = np.hypot(dw, dz)
+    w_touch = side * big * dz * np.sign(dw) / np.where(along > 0.0, along, 1.0)
+    touch = np.clip((w_touch - w0) / step, lo, hi)
+    best = np.full(index.shape, -np.inf)
+    for t in (lo, hi, touch):
+        w = w0 + t * dw
+        best = np.maximum(best, side * (z0 + t * dz) + np.sqrt(np.maximum(big * big - w * w,
+                                                                          0.0)))
+    low = np.max(np.where(present & below, best, -np.inf), axis=1)
+    high = np.min(np.where(present & ~below, -best, np.inf), axis=1)
     return low, high
 
 
@@ -314,7 +449,9 @@ def tube_surfaces(d: Drum, program: MotionProgram, tube: Tube) -> tuple[tuple[Ar
     on its circle from the lower wall's foot to the upper's, and the top across beyond the
     surface (:class:`camfab.export.part.Mesh`); and probes, points of the exact walls halfway
     between the stations and between the rows, to measure the surfaces by."""
-    theta, radii = tube.stations, tube.radii
+    # one grid row per cam angle: the sections a velocity step adds (:func:`fanned`) share
+    # theirs with the joint's own
+    theta, radii = np.unique(tube.stations), tube.radii
     m = program.evaluate(theta)
 
     def wall(side: int, t: Array, mm: Array, r: Array) -> Array:
@@ -338,3 +475,39 @@ def tube_surfaces(d: Drum, program: MotionProgram, tube: Tube) -> tuple[tuple[Ar
     probes = np.concatenate([wall(side, middle, mid_m, mid_r[inside]).reshape(-1, 3)
                              for side in (-1, 1)])
     return grids, probes
+
+
+#: Radii from the groove's floor to the drum's surface at which a velocity step's crease is
+#: found to measure the roller's play there (:func:`corner_play`).
+PLAY_RADII = 33
+
+
+def corner_play(d: Drum, program: MotionProgram) -> list[tuple[float, float]]:
+    """At each velocity step of *program*: its cam angle (rad) and how far (mm) the roller can
+    move off the design there in the exact groove (the union of the roller's positions).
+
+    On the inside of the bend the walls swept before and after the step meet in a crease
+    (:func:`_crossing`) further from the roller's axis than its radius: at the step the roller
+    touches neither, and can move toward the crease until it meets it; on the outside of the
+    bend it touches its own surface, swept as it turns, and cannot move. A crease point at w
+    across the axis and height z stops the centre √(R² − w²) from it. The play is the largest
+    over the crease's radii (from the floor to the surface)."""
+    out = []
+    reach = 2.0 * _reach(d)
+    u = np.linspace(0.0, 1.0, CREASE_POINTS)
+    for angle, before, _ in velocity_steps(program):
+        centre = d.start + float(program.evaluate(np.array([angle]))[0, 0])
+        alpha = float(d.axis_angle(np.array([angle]))[0])
+        play = 0.0
+        for r in np.linspace(d.root, d.radius, PLAY_RADII):
+            for lower in (True, False):
+                hit = _crossing(d, program, angle, before, float(r), lower,
+                                angle - reach * u[::-1], angle + reach * u)
+                if hit is None:
+                    continue
+                w = r * math.sin(hit[2] - alpha)
+                gap = math.sqrt(max(d.roller**2 - w * w, 0.0))
+                stop = hit[3] + gap if lower else hit[3] - gap
+                play = max(play, abs(centre - stop))
+        out.append((angle, play))
+    return out

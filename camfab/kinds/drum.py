@@ -25,8 +25,9 @@ if TYPE_CHECKING:
     from camfab.curves.follower import FollowerGeometry
     from camfab.curves.profile import Profile
     from camfab.design import Design
-    from camfab.export.part import Drawing, Part
+    from camfab.export.part import Drawing, Part, Solid
     from camfab.export.serialise import PartFiles
+    from camfab.geometry.drum import Drum as DrumGeometry
     from camfab.geometry.drum import DrumDense
     from camfab.kinds.scene3d import Scene3D
     from camfab.motion.program import MotionProgram
@@ -291,8 +292,7 @@ def drum_part(analysis: Analysis) -> Part:
     subtracted once as one closed tube (withheld when the groove folds over itself); the groove
     developed at the surface as a drawing and a view (see :func:`_development_drawing`)."""
     from camfab.curves.sampling import SAMPLING_SHARE
-    from camfab.export.part import Cylinder, Difference, Mesh, Part
-    from camfab.export.stl import circle_segments
+    from camfab.export.part import Difference, Mesh, Part
     from camfab.geometry.arcfit import fit_arcs
     from camfab.geometry.drum_mesh import development, groove_tube, tube_surfaces
     from camfab.geometry.plate import Contours
@@ -308,10 +308,7 @@ def drum_part(analysis: Analysis) -> Part:
         withheld["stl"] = ("the groove folds over itself (see the groove check): there is no "
                            "solid a roller could run in")
     else:
-        body = Cylinder(d.length, d.radius, circle_segments(d.radius, tolerance))
-        if d.bore > 0.0:
-            body = Difference(body, Cylinder(d.length + 2.0, d.bore,
-                                             circle_segments(d.bore, tolerance), -1.0))
+        body = _body(d, tolerance)
         grids, probes = tube_surfaces(d, program, tube)
         solid = Difference(body, Mesh(tube.vertices, tube.faces, grids, probes), cut_first=True)
     # the developed groove: the walls at the surface, closed across the seam
@@ -321,6 +318,26 @@ def drum_part(analysis: Analysis) -> Part:
     drawing = _development_drawing(analysis, band, centre, (dev.width, dev.height))
     return Part({design.name: drawing}, {design.name: (Contours((band,)), None)}, solid,
                 needs=("dxf", "stl"), withheld=withheld, made=tube)
+
+
+def _body(d: DrumGeometry, tolerance: float) -> Solid:
+    """The drum before its groove is cut: a cylinder (mm) along Z from 0 to its length, its
+    circle's chords within *tolerance* (mm); with a bore, the ring between the bore and the
+    surface revolved, both circles cut into the same number of chords at the same angles.
+
+    (A cylinder less a bore cylinder has end faces that manifold3d triangulates afresh, and a
+    corner of the surface's polygon that falls within a few micrometres of the line through a
+    chord of the bore's makes a needle facet of the two, thinner than an STL can hold; the ring
+    revolved has its end faces in quads between the circles, each as wide as its chord.)"""
+    from camfab.curves.profile import Profile
+    from camfab.export.part import Cylinder, Revolution
+    from camfab.export.stl import circle_segments
+
+    segments = circle_segments(d.radius, tolerance)
+    if d.bore <= 0.0:
+        return Cylinder(d.length, d.radius, segments)
+    ring = np.array([[d.bore, 0.0], [d.radius, 0.0], [d.radius, d.length], [d.bore, d.length]])
+    return Revolution(ring, segments, Profile.from_points(ring))
 
 
 def _folded(analysis: Analysis) -> bool:
@@ -359,11 +376,17 @@ def drum_verify(analysis: Analysis, part: Part, files: PartFiles) -> Verificatio
     the groove folds, between the exact walls, to show how far the fold would throw it); the
     STL checked closed, outward and of the solid's volume; the developed walls of the DXF
     measured against the exact ones."""
+    from camfab.arrays import edge_groups
     from camfab.curves.sampling import SAMPLING_SHARE
     from camfab.export.dxf import read_cut_outline
     from camfab.geometry.disc_geometry import LiftCheck
-    from camfab.geometry.drum_mesh import development, groove_lift, row_points
-    from camfab.kinds.readback import groove_mesh
+    from camfab.geometry.drum_mesh import (
+        corner_play,
+        development,
+        groove_lift,
+        velocity_steps,
+    )
+    from camfab.kinds.readback import against_cut, groove_mesh
     from camfab.motion.program import cycle_angles
 
     design, dense = analysis.design, analysis.drum
@@ -371,22 +394,36 @@ def drum_verify(analysis: Analysis, part: Part, files: PartFiles) -> Verificatio
     d, program = dense.drum, analysis.program
     tolerance = SAMPLING_SHARE * design.manufacturing.tolerance
     folded = _folded(analysis)
-    vertices, faces, stl_check, _ = groove_mesh(part, files, design.manufacturing.tolerance,
+    vertices, _, stl_check, edges = groove_mesh(part, files, design.manufacturing.tolerance,
                                                 folded)
     source = ("the exact walls (the groove folds: no STL)" if stl_check is None else
               f"the roller run through the groove of {design.name}.stl read back (between its "
               "wall rows)")
-    # the roller run between the wall vertices found, and points along the rows' edges between
-    # them no further apart than a quarter of the roller's radius
+    # the roller run between the wall rows' edges found, each met exactly
     theta = cycle_angles(DRUM_VERIFY_STEP)
     centre_z = d.start + program.evaluate(theta)[0]
-    surface = row_points(d, vertices, faces, d.roller / 4.0, d.axis_angle(theta))
-    low, high = groove_lift(d, surface, theta, centre_z)
+    low, high = groove_lift(d, vertices, edges, theta, centre_z)
     found = np.isfinite(low) & np.isfinite(high)  # the roller meets both walls
     error = np.full(theta.size, np.inf)
     error[found] = 0.5 * (low[found] + high[found]) - centre_z[found]
     written = read_cut_outline(files.files["dxf"][f"{design.name}.dxf"], design.mm_per_unit)
     exact = development(d, program, tolerance / 64.0)
     deviation = float(written.distance(np.vstack((exact.lower, exact.upper))).max())
-    return Verification(LiftCheck(theta, error, error), source, len(written.vertices),
-                        deviation, stl_check, exempt=folded)
+    lift = LiftCheck(theta, error, error)
+    if folded or not velocity_steps(program):
+        return Verification(lift, source, len(written.vertices), deviation, stl_check,
+                            exempt=folded)
+    # a velocity step: the groove's corners leave the roller room (the corner check), so the
+    # files are held to the groove as computed wherever its motion departs from the design,
+    # and no further off the design than the exact groove's corners take it
+    tube = part.made
+    low, high = groove_lift(d, tube.vertices, edge_groups(tube.faces, len(tube.vertices))[0],
+                            theta, centre_z)
+    corner = max(play for _, play in corner_play(d, program)) / 2.0
+    computed = np.clip(0.5 * (low + high) - centre_z, -corner, corner)
+    return Verification(lift, source, len(written.vertices), deviation, stl_check, exempt=True,
+                        cut_error=against_cut(lift, LiftCheck(theta, computed, computed),
+                                              design.manufacturing.tolerance),
+                        departs_because="the groove has a corner at each velocity step",
+                        departs_check="corner", departs_cam="the groove",
+                        departs_by="its corners leave it")

@@ -173,11 +173,12 @@ def verification_finding(analysis: Analysis, check: Verification) -> Finding:
         cut = check.cut_error
         value = cut.max_mm
         lift_ok = cut.max_mm <= tolerance
-        parts = [f"the cam is undercut and moves the follower up to {lift.max_mm:.3g} mm off "
-                 f"the design (see the undercut check); the follower run over the geometry as "
-                 f"written ({check.source}) moves {cut.max_mm:.3g} mm at most from the motion "
-                 f"of the cut cam camfab computed, the design's wherever the undercut leaves it "
-                 f"(at {cut.at_deg:.4g}°, tolerance {tolerance:.3g} mm)"]
+        parts = [f"{check.departs_because} and moves the follower up to {lift.max_mm:.3g} mm "
+                 f"off the design (see the {check.departs_check} check); the follower run over "
+                 f"the geometry as written ({check.source}) moves {cut.max_mm:.3g} mm at most "
+                 f"from the motion of {check.departs_cam} camfab computed, the design's wherever "
+                 f"{check.departs_by} (at {cut.at_deg:.4g}°, tolerance "
+                 f"{tolerance:.3g} mm)"]
     else:
         value = None
         lift_ok = True
