@@ -19,6 +19,7 @@ from camfab.curves.plane import CurvePoints, offset_inward, signed_angle
 from camfab.curves.profile import MERGE_DISTANCE, Profile
 from camfab.curves.sampling import SAMPLING_SHARE, arc_points, sample_curves
 from camfab.geometry.disc import DiscCam, FaceLines
+from camfab.geometry.runs import among
 from camfab.geometry.simulate import simulate
 from camfab.geometry.undercut import (
     KeepTest,
@@ -134,6 +135,17 @@ class DiscGeometry:
     @property
     def undercut(self) -> bool:
         return bool(self.folds.any() or self.self_intersecting or self.cut.any())
+
+    @property
+    def corners(self) -> Mask:
+        """The profile's vertices where loops of the envelope were cut away (those that are not
+        sampled points of the working curve), over ``profile.vertices``: the trimmed cam's
+        corners, which its fit with lines and arcs keeps (none on an exact outline or a cam that
+        was not trimmed)."""
+        vertices = self.profile.vertices
+        if self.exact or not self.undercut:
+            return np.zeros(len(vertices), dtype=bool)
+        return ~among(vertices, self.working.xy)
 
 
 def dense_curves(cam: DiscCam, program: MotionProgram, step: float = ANALYSIS_STEP) -> DenseCurves:

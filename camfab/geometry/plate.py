@@ -16,9 +16,9 @@ import numpy as np
 
 from camfab.curves.profile import Profile
 from camfab.design import Design
-from camfab.geometry.arcfit import fit_arcs
 from camfab.geometry.disc_geometry import DiscGeometry
 from camfab.geometry.offset import grow
+from camfab.geometry.runs import fit_closed, fit_grown
 
 #: Share of the export tolerance left to an offset's round joins and to the flattening of arcs
 #: before an offset; the arc fit that follows takes the rest.
@@ -102,7 +102,7 @@ def holes(design: Design) -> Contours:
 def offset_outline(points: np.ndarray, distance: float, tolerance: float) -> Profile:
     """The outline through *points* (mm) grown by *distance* (mm), fitted within *tolerance*."""
     grown = grow(points, distance, OFFSET_SHARE * tolerance)
-    return fit_arcs(max(grown, key=len), tolerance)
+    return fit_grown(max(grown, key=len), distance, tolerance)
 
 
 def offset_holes(part: Contours, distance: float, tolerance: float) -> Contours:
@@ -113,14 +113,15 @@ def offset_holes(part: Contours, distance: float, tolerance: float) -> Contours:
     for hole in part.profiles:
         flat = hole.points(OFFSET_SHARE * tolerance)
         for ring in grow(flat, -distance, OFFSET_SHARE * tolerance):
-            profiles.append(fit_arcs(ring, tolerance))
+            profiles.append(fit_grown(ring, distance, tolerance))
     return Contours(tuple(profiles), circles)
 
 
 def plate(design: Design, geom: DiscGeometry) -> Plate:
     """The plate's contours: the part, the kerf-compensated CUT contours and the toolpath."""
     tolerance = geom.tolerance
-    outline = geom.profile if geom.exact else fit_arcs(geom.profile.vertices, tolerance)
+    outline = geom.profile if geom.exact else fit_closed(geom.profile.vertices, geom.corners,
+                                                         tolerance)
 
     def around(distance: float) -> Profile:
         """The outline grown by *distance*: exactly for an exact outline of lines and arcs
