@@ -277,14 +277,20 @@ def test_an_undercut_rollers_files_keep_the_corners_of_the_cut_cam(kerf: float) 
     analysis, outline = cut_contour(ROLLER_CORNERS.replace("KERF", str(kerf)))
     tolerance, rr = 0.001, 14.0
     points = part_of(outline, kerf, 0.05)
-    # the pitch curve's points 0.05° apart: its chords within 2e-5 mm of it
-    theta = np.linspace(0.0, 2 * np.pi, 7201)[:-1]
+    # the pitch curve's points 0.005° apart: its chords within 2e-7 mm of it
+    theta = np.linspace(0.0, 2 * np.pi, 72_001)[:-1]
     y = 8.0 + rr + analysis.design.program.evaluate(theta)[0]
     pitch = np.stack((y * np.sin(theta), y * np.cos(theta)), -1)
     chords = shapely.STRtree(shapely.linestrings(np.stack((pitch, np.roll(pitch, -1, 0)), 1)))
     _, away = chords.query_nearest(shapely.points(points), return_distance=True,
                                    all_matches=False)
     assert np.abs(away - rr).max() <= tolerance
+    # the cut cam's corners are where the exact branches of the envelope cross, not where two
+    # of their chords do (3e-4 mm off): on the exact curve, the roller radius from the pitch
+    corners = analysis.geometry.profile.vertices[analysis.geometry.corners]
+    _, reach = chords.query_nearest(shapely.points(corners), return_distance=True,
+                                    all_matches=False)
+    assert len(corners) == 2 and np.abs(reach - rr).max() <= 1e-6
     check = verification_of(analysis)
     assert analysis.geometry.undercut and check.ok and check.value <= tolerance
 
