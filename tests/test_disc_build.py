@@ -209,6 +209,111 @@ def test_flat_face_cusp_is_an_undercut() -> None:
     assert geom.lift.max_mm > 1.0
 
 
+# ---- an undercut cam's files hold the cam cut at its corners -----------------------------------
+
+#: A 14 mm roller on an 8 mm base circle: both ends of the rise and the return's start fold over,
+#: and the cut cam has sharp corners where the loops were trimmed.
+ROLLER_CORNERS = """
+name: roller-corners
+cam: {type: disc, base_radius: 8, thickness: 8}
+follower: {type: roller, roller_radius: 14}
+motion:
+  - rise: {angle: 40, lift: 10, law: modified-trapezoid}
+  - dwell: {angle: 20}
+  - return: {angle: 60, law: polynomial-23}
+  - dwell: {angle: 240}
+manufacturing: {tolerance: 0.001, kerf: KERF}
+"""
+
+#: A flat face whose envelope has cusps on both flanks (Rb + s + s″ < 0), cut by a laser.
+FLAT_CORNERS = """
+name: flat-corners
+cam: {type: disc, base_radius: 25, thickness: 8}
+follower: {type: flat, face_width: 300}
+motion:
+  - rise: {angle: 40, lift: 20, law: harmonic}
+  - dwell: {angle: 20}
+  - return: {angle: 80, law: polynomial-345}
+  - dwell: {angle: 220}
+manufacturing: {tolerance: 0.001, kerf: 0.2}
+"""
+
+
+def cut_contour(text: str) -> tuple[object, np.ndarray]:
+    """The design in *text* built: its analysis and the DXF's CUT outline read back by ezdxf
+    (its arcs flattened within 1e-6 mm)."""
+    import io
+
+    import ezdxf
+
+    from .dxf_loops import loops
+
+    design = design_from_text(text)
+    artifacts = render(analyse(design))
+    doc = ezdxf.read(io.StringIO(artifacts.files[f"{design.name}.dxf"].decode()))
+    return artifacts.analysis, loops(doc, "CUT", 1e-6)[0]
+
+
+def verification_of(analysis) -> object:  # type: ignore[no-untyped-def]
+    return next(f for f in analysis.findings if f.id == "verification")
+
+
+def part_of(outline: np.ndarray, kerf: float, step: float) -> np.ndarray:
+    """The part a laser following *outline* (mm) leaves, by shapely (the outline shrunk by
+    kerf/2, its joins true to 1e-6 mm), as points no more than *step* (mm) apart."""
+    part = shapely.Polygon(outline).buffer(-kerf / 2, quad_segs=512) if kerf else (
+        shapely.Polygon(outline))
+    return np.asarray(part.exterior.segmentize(step).coords)
+
+
+@pytest.mark.parametrize("kerf", [0.0, 0.2])
+def test_an_undercut_rollers_files_keep_the_corners_of_the_cut_cam(kerf: float) -> None:
+    """Where the loops are trimmed the cut cam has sharp corners, on which the roller rides:
+    its outline is fitted with lines and arcs between them, never an arc across one (which
+    bowed 0.025 mm off the cut cam, 25 times the tolerance), and the laser's path round them
+    neither. The cut cam is where the roller never enters: every point of the part the CUT
+    outline makes lies the roller radius from the pitch curve, which the test computes from the
+    motion law (ccw: the cam frame turns the follower's (0, Rb + r + s) by −θ)."""
+    analysis, outline = cut_contour(ROLLER_CORNERS.replace("KERF", str(kerf)))
+    tolerance, rr = 0.001, 14.0
+    points = part_of(outline, kerf, 0.05)
+    # the pitch curve's points 0.005° apart: its chords within 2e-7 mm of it
+    theta = np.linspace(0.0, 2 * np.pi, 72_001)[:-1]
+    y = 8.0 + rr + analysis.design.program.evaluate(theta)[0]
+    pitch = np.stack((y * np.sin(theta), y * np.cos(theta)), -1)
+    chords = shapely.STRtree(shapely.linestrings(np.stack((pitch, np.roll(pitch, -1, 0)), 1)))
+    _, away = chords.query_nearest(shapely.points(points), return_distance=True,
+                                   all_matches=False)
+    assert np.abs(away - rr).max() <= tolerance
+    # the cut cam's corners are where the exact branches of the envelope cross, not where two
+    # of their chords do (3e-4 mm off): on the exact curve, the roller radius from the pitch
+    corners = analysis.geometry.profile.vertices[analysis.geometry.corners]
+    _, reach = chords.query_nearest(shapely.points(corners), return_distance=True,
+                                    all_matches=False)
+    assert len(corners) == 2 and np.abs(reach - rr).max() <= 1e-6
+    check = verification_of(analysis)
+    assert analysis.geometry.undercut and check.ok and check.value <= tolerance
+
+
+def test_an_undercut_flat_faces_laser_path_keeps_the_corners_of_the_cut_cam() -> None:
+    """A flat face's cut cam is the region below every face line, with corners where the cusps
+    were trimmed; the laser's path rounds them with arcs of radius kerf/2, which its fit keeps
+    (an arc across a round join and the long chords beside it bowed 2.6 times the tolerance
+    off). The part the path leaves (the path shrunk by kerf/2) lies on the boundary of that
+    region: below every face line h = Rb + s along the normal at 90° − θ, and on one."""
+    analysis, outline = cut_contour(FLAT_CORNERS)
+    tolerance = 0.001
+    points = part_of(outline, 0.2, 0.05)
+    # face lines 0.05° apart: the tangent one missed by at most 0.025°, 1e-5 mm on this cam
+    theta = np.linspace(0.0, 2 * np.pi, 7201)[:-1]
+    h = 25.0 + analysis.design.program.evaluate(theta)[0]
+    normal = np.stack((np.sin(theta), np.cos(theta)), -1)
+    above = np.max(points @ normal.T - h, axis=1)
+    assert np.abs(above).max() <= tolerance
+    check = verification_of(analysis)
+    assert analysis.geometry.undercut and check.ok and check.value <= tolerance
+
+
 # ---- the simulation on profiles camfab did not make -----------------------------------------
 
 R, C = 30.0, 12.0  # an eccentric disc: radius R, centre C from the cam centre along +X

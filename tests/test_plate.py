@@ -206,3 +206,60 @@ manufacturing: {cutter_radius: 4}
     # the hollows are the joints at 0° and 300° (rise start, return end)
     assert any(abs(a - 0.0) < 1 or abs(a - 360.0) < 1 for a in where)
     assert any(abs(a - 300.0) < 1 for a in where)
+
+
+# ---- the verification measures every CUT contour against the exact one ----------------------
+
+def shifted_cut(monkeypatch: pytest.MonkeyPatch, contour: int, vertex: int,
+                by: np.ndarray) -> None:
+    """Make the plate's writer draw CUT contour *contour* (0: the outline, then the holes) with
+    its vertex *vertex* moved by *by* (mm), the rest of the part (the STL's) as computed."""
+    from dataclasses import replace
+
+    import camfab.geometry.plate as plate_module
+    from camfab.curves.profile import Profile
+
+    computed = plate_module.plate
+
+    def plate(design, geom):  # type: ignore[no-untyped-def]
+        made = computed(design, geom)
+        profiles = list(made.cut.profiles)
+        moved = profiles[contour].vertices.copy()
+        moved[vertex] += by
+        profiles[contour] = Profile(moved, profiles[contour].bulges)
+        return replace(made, cut=replace(made.cut, profiles=tuple(profiles)))
+
+    monkeypatch.setattr(plate_module, "plate", plate)
+
+
+def test_a_keyway_drawn_off_by_twice_the_tolerance_fails_the_verification(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """The follower never touches the bore, so its lift cannot tell a hole drawn off the part:
+    the CUT contours read back are measured against the exact ones, and a keyway corner moved
+    twice the tolerance fails the verification (exit 1), saying by how much."""
+    shifted_cut(monkeypatch, 1, 1, np.array([2 * TOLERANCE, 0.0]))  # the keyway's top right
+    _, analysis, _, report = build(seed_10_4(""))
+    check = next(f for f in analysis.findings if f.id == "verification")
+    assert analysis.verification.lift.max_mm <= TOLERANCE  # the follower sees nothing
+    assert not check.ok and check.value == pytest.approx(2 * TOLERANCE, rel=0.01)
+    assert "over the tolerance" in check.message and analysis.exit_code == 1
+    assert report["verification"]["cut_outline_max_deviation_mm"] == pytest.approx(
+        2 * TOLERANCE, rel=0.01)
+
+
+@pytest.mark.parametrize("kerf", [0.0, 0.3])
+def test_an_outline_point_drawn_off_by_twice_the_tolerance_fails_the_verification(
+        monkeypatch: pytest.MonkeyPatch, kerf: float) -> None:
+    """An outline vertex moved twice the tolerance toward the cam centre (with a kerf: the
+    beam's path moved) fails the verification, whatever the follower's run makes of it."""
+    design = design_from_text(seed_10_4(f"manufacturing: {{kerf: {kerf}}}\n"))
+    made = __import__("camfab.geometry.plate", fromlist=["plate"]).plate(
+        design, analyse(design).geometry)
+    outline = made.cut.profiles[0].vertices
+    k = int(np.argmin(outline[:, 1]))  # on the dwell, at the base circle
+    inward = -outline[k] / np.hypot(*outline[k])
+    shifted_cut(monkeypatch, 0, k, 2 * TOLERANCE * inward)
+    _, analysis, _, _ = build(seed_10_4(f"manufacturing: {{kerf: {kerf}}}\n"))
+    check = next(f for f in analysis.findings if f.id == "verification")
+    assert not check.ok and check.value >= 1.9 * TOLERANCE
+    assert analysis.verification.deviation_mm >= 1.9 * TOLERANCE

@@ -17,10 +17,12 @@ class Verification:
     """What reading the files back found.
 
     ``lift`` is the follower run over the geometry as written; ``source`` says which; ``entities``
-    counts the lines and arcs of the CUT contour read back; ``deviation_mm`` is its largest
-    distance from the exact curve (a disc's working curve offset kerf/2 outward with a kerf, or a
-    drum's walls developed at its surface; None for an undercut cam, whose outline is the
-    trimmed one on purpose); ``stl`` is the STL read back (when one is made).
+    counts the lines and arcs of the CUT contour read back; ``deviation_mm`` is the largest
+    distance of the CUT contours read back from the exact ones, measured both ways (a plate's
+    working curve grown by kerf/2 with a kerf, an undercut plate's cut cam as computed, its holes
+    shrunk by kerf/2; a drum's walls developed at its surface; None where there is no exact
+    curve to measure against: a folded groove); the verification fails when it exceeds the
+    tolerance; ``stl`` is the STL read back (when one is made).
     """
 
     lift: LiftCheck

@@ -19,10 +19,12 @@ from camfab.curves.plane import CurvePoints, offset_inward, signed_angle
 from camfab.curves.profile import MERGE_DISTANCE, Profile
 from camfab.curves.sampling import arc_points, sample_curves
 from camfab.geometry.disc import DiscCam, FaceLines
+from camfab.geometry.runs import among
 from camfab.geometry.simulate import simulate
 from camfab.geometry.undercut import (
     KeepTest,
     below_face_lines,
+    crossings,
     cut_away,
     is_simple,
     outside_circle_sweep,
@@ -135,6 +137,17 @@ class DiscGeometry:
     def undercut(self) -> bool:
         return bool(self.folds.any() or self.self_intersecting or self.cut.any())
 
+    @property
+    def corners(self) -> Mask:
+        """The profile's vertices where loops of the envelope were cut away (those that are not
+        sampled points of the working curve), over ``profile.vertices``: the trimmed cam's
+        corners, which its fit with lines and arcs keeps (none on an exact outline or a cam that
+        was not trimmed)."""
+        vertices = self.profile.vertices
+        if self.exact or not self.undercut:
+            return np.zeros(len(vertices), dtype=bool)
+        return ~among(vertices, self.working.xy)
+
 
 def dense_curves(cam: DiscCam, program: MotionProgram, step: float = ANALYSIS_STEP) -> DenseCurves:
     """The exact curves at every *step* of cam angle, segment by segment."""
@@ -215,6 +228,66 @@ def _keep_test(cam: DiscCam, pitch: Sampled, dense: DenseCurves, slack: float) -
     if dense.lines is not None:
         return below_face_lines(dense.lines.normal, dense.lines.h, slack)
     return outside_circle_sweep(pitch.xy, cam.follower.radius, slack)
+
+
+def cut_cam(cam: DiscCam, program: MotionProgram, dense: DenseCurves, pitch: Sampled,
+            working: Sampled, tolerance: float) -> Array:
+    """The cam a cutter following the design leaves (mm): the sampled *working* curve, its
+    loops trimmed away (the faces of it the follower, run along the sampled *pitch* curve or
+    under the face lines of *dense*, never enters), both sampled within *tolerance* (mm); its
+    corners, where two branches of the envelope cross, where the exact branches cross
+    (:func:`exact_crossings`), not where two of their chords do."""
+    xy = trim_loops(working.xy, _keep_test(cam, pitch, dense, tolerance))
+    added = np.flatnonzero(~among(xy, working.xy))
+    if added.size:
+        xy = xy.copy()
+        xy[added] = exact_crossings(cam, program, working, xy[added])
+    return xy
+
+
+#: Newton steps that solve for a crossing of two branches of the envelope: from the crossing of
+#: their chords (within the sampling tolerance of it) the error squares at each step.
+CROSSING_STEPS = 8
+
+
+def exact_crossings(cam: DiscCam, program: MotionProgram, working: Sampled,
+                    points: Array) -> Array:
+    """Where the exact working curve crosses itself near each of *points* (mm), crossings of
+    chords of the sampled *working* curve: W(θa) = W(θb) solved by Newton's method from the
+    chords' parameters, θa and θb each within its chord's span of cam angle. A point whose
+    chords are not both pieces of the envelope between two cam angles (a roller's arc over a
+    corner of the pitch curve), or whose solution leaves the spans, stays as it is."""
+    first, second = crossings(working.xy, points)
+    paired = (first >= 0) & (second >= 0)
+    first, second = np.where(paired, first, 0), np.where(paired, second, 0)
+    theta, count = working.theta, len(working.theta)
+    spans = np.stack([np.stack((theta[c], theta[(c + 1) % count]), axis=-1)
+                      for c in (first, second)], axis=1)  # (K, 2 chords, 2 ends)
+    spans[..., 1] = np.where(spans[..., 1] < spans[..., 0], spans[..., 1] + 2 * math.pi,
+                             spans[..., 1])  # the chord across θ = 0
+    width = spans[..., 1] - spans[..., 0]
+    ends = np.stack([working.xy[c] for c in (first, second)], axis=1)
+    following = np.stack([working.xy[(c + 1) % count] for c in (first, second)], axis=1)
+    # the parameters where the chords' crossing falls, as shares of each chord
+    share = np.clip(np.sum((points[:, None] - ends) * (following - ends), axis=-1)
+                    / np.maximum(np.sum((following - ends) ** 2, axis=-1), 1e-300), 0.0, 1.0)
+    t = spans[..., 0] + share * width
+    for _ in range(CROSSING_STEPS):
+        curve = cam.working(t.ravel(), program.evaluate(t.ravel()))
+        w = curve.xy.reshape(-1, 2, 2)
+        dw = (curve.tangent * curve.speed[:, None]).reshape(-1, 2, 2)
+        gap = w[:, 0] - w[:, 1]
+        jacobian = np.stack((dw[:, 0], -dw[:, 1]), axis=-1)  # (K, 2, 2): columns d/dθa, d/dθb
+        with np.errstate(divide="ignore", invalid="ignore"):
+            step = np.linalg.solve(jacobian, gap[..., None])[..., 0]
+        t = t - np.where(np.isfinite(step), step, 0.0)
+    found = cam.working(t.ravel(), program.evaluate(t.ravel())).xy.reshape(-1, 2, 2)
+    slack = 1e-9 * np.maximum(width, 1e-12)
+    good = (paired & np.all(width > 0.0, axis=1)
+            & np.all((t >= spans[..., 0] - slack) & (t <= spans[..., 1] + slack), axis=1)
+            & np.all(np.isfinite(found), axis=(1, 2))
+            & (np.hypot(*(found[:, 0] - found[:, 1]).T) <= 1e-9 * (1.0 + np.abs(found).max())))
+    return np.where(good[:, None], 0.5 * (found[:, 0] + found[:, 1]), points)
 
 
 def folds(cam: DiscCam, dense: DenseCurves) -> Mask:
@@ -302,7 +375,7 @@ def plate_geometry(cam: DiscCam, program: MotionProgram, tolerance: float,
     xy = working.xy
     cut = np.zeros(len(working.xy), dtype=bool)
     if folded.any() or crossing:
-        xy = trim_loops(working.xy, _keep_test(cam, pitch, dense, tolerance))
+        xy = cut_cam(cam, program, dense, pitch, working, tolerance)
         cut = cut_away(working.xy, xy, 2 * tolerance)
     profile = Profile.from_points(xy).ccw() if exact is None else exact
     return DiscGeometry(cam, tolerance, dense, pitch, working, profile, folded, crossing,

@@ -41,7 +41,6 @@ roller radius at convex corners. It is exact for lines and arcs.
 
 from __future__ import annotations
 
-import itertools
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -54,8 +53,8 @@ from camfab.arrays import Array, Index, Mask
 from camfab.curves.plane import CurvePoints, perp, signed_angle
 from camfab.curves.profile import MERGE_DISTANCE, Profile
 from camfab.curves.sampling import SAMPLING_SHARE, arc_points, sample_curves
-from camfab.geometry.arcfit import fit_arcs
 from camfab.geometry.disc_geometry import ANALYSIS_STEP, MIN_TOLERANCE_FACTOR, LiftCheck, Sampled
+from camfab.geometry.runs import among, fit_grown, fit_runs
 from camfab.geometry.simulate import OffsetPieces
 from camfab.geometry.undercut import KeepTest, cut_away, is_simple, trim_loops
 from camfab.motion.program import MotionProgram, ProgramSegment
@@ -458,27 +457,10 @@ def _outside_sweep(pitch_xy: Array, radius: float, slack: float) -> KeepTest:
     return keep
 
 
-def _fit_runs(chain: Array, corners: Mask, tolerance: float) -> tuple[Array, Array]:
-    """An open chain of points as lines and arcs within *tolerance*, fitted run by run between
-    its corners (an arc is never fitted across a corner): vertices and the bulges of the edges
-    after them, the last vertex's bulge 0."""
-    cuts = [0, *np.flatnonzero(corners[1:-1]) + 1, len(chain) - 1]
-    vertices, bulges = [], []
-    for a, b in itertools.pairwise(cuts):
-        if b <= a:
-            continue
-        fitted = fit_arcs(chain[a:b + 1], tolerance, closed=False)
-        vertices.append(fitted.vertices[:-1])
-        bulges.append(fitted.bulges[:-1])
-    vertices.append(chain[-1:])
-    bulges.append(np.zeros(1))
-    return np.concatenate(vertices), np.concatenate(bulges)
-
-
 def fit_open(chain: Array, corners: Mask, tolerance: float) -> Profile:
     """An open chain (a pitch curve) as lines and arcs; the profile's closing edge is not part
     of the curve (see :func:`camfab.geometry.arcfit.fit_arcs`)."""
-    vertices, bulges = _fit_runs(chain, corners, tolerance)
+    vertices, bulges = fit_runs(chain, corners, tolerance)
     return Profile(vertices, bulges)
 
 
@@ -513,26 +495,15 @@ def _plate_ring(cam: LinearCam, working: Sampled, corners: Mask, pitch: Sampled,
     keep = np.hypot(*(np.roll(xy, -1, axis=0) - xy).T) > MERGE_DISTANCE
     xy = xy[keep]
     # a top vertex that is not a sampled point of the envelope is where a loop was cut
-    marked = ~_among(xy, w) | _among(xy, w[corners])
+    marked = ~among(xy, w) | among(xy, w[corners])
     return xy, marked
-
-
-def _among(points: Array, table: Array) -> Mask:
-    """Whether each of (N, 2) *points* is one of the (M, 2) points *table*, coordinate by
-    coordinate equal (as floats compare: −0 is 0, NaN is nothing)."""
-    def joined(xy: Array) -> Array:
-        out = np.empty(len(xy), dtype=np.complex128)
-        out.real, out.imag = xy[:, 0], xy[:, 1]
-        return out
-
-    return np.isin(joined(points), joined(table))
 
 
 def plate_outline(ring: Array, marked: Mask, tolerance: float) -> Profile:
     """The plate's outline as lines and arcs: its two ends and base line straight, its top (the
     working curve) fitted within *tolerance* between its corners."""
     top = ring[1:-1]  # from the top of the right end, right to left, to the top of the left end
-    vertices, bulges = _fit_runs(top, marked[1:-1], tolerance)
+    vertices, bulges = fit_runs(top, marked[1:-1], tolerance)
     return Profile(np.vstack((ring[:1], vertices, ring[-1:])),
                    np.concatenate(([0.0], bulges, [0.0])))
 
@@ -565,37 +536,6 @@ def linear_geometry(design: Design) -> LinearGeometry:
                           folded, crossing, cut, lift_check(cam, program, outline))
 
 
-#: The longest chord of a chain handed to the arc fit after an offset (mm): the fit measures only
-#: the points it is given, so long straight edges (the base line, a dwell) are cut into pieces
-#: this short and an arc cannot bow away from them between points.
-MAX_CHORD_MM = 0.25
-
-#: A turn sharper than this between two chords (rad) is a corner no arc is fitted across: far
-#: sharper than a curve sampled within the tolerance turns between points of its smooth parts.
-CORNER_TURN = math.radians(30.0)
-
-
-def densify(ring: Array, step: float) -> Array:
-    """A closed chain of points with each edge cut into pieces no longer than *step* (mm)."""
-    following = np.roll(ring, -1, axis=0)
-    count = np.maximum(1, np.ceil(np.hypot(*(following - ring).T) / step).astype(int))
-    index = np.repeat(np.arange(len(ring)), count)
-    frac = (np.arange(int(count.sum())) - np.repeat(np.cumsum(count) - count, count)) / np.repeat(
-        count, count)
-    return ring[index] + frac[:, None] * (following[index] - ring[index])
-
-
-def fit_closed(ring: Array, corners: Mask, tolerance: float) -> Profile:
-    """A closed chain as lines and arcs within *tolerance* (mm), no arc across a corner."""
-    if not corners.any():
-        return fit_arcs(ring, tolerance)
-    first = int(np.flatnonzero(corners)[0])
-    ring, corners = np.roll(ring, -first, axis=0), np.roll(corners, -first)
-    vertices, bulges = _fit_runs(np.vstack((ring, ring[:1])), np.append(corners, True),
-                                 tolerance)
-    return Profile(vertices[:-1], bulges[:-1])
-
-
 def offset_plate(chain: Array, distance: float, tolerance: float) -> Profile:
     """The plate through the closed *chain* (mm) grown by *distance* (mm; a laser beam's path
     for kerf/2, a milling cutter's centre path for its radius), with round joins, fitted with
@@ -604,7 +544,4 @@ def offset_plate(chain: Array, distance: float, tolerance: float) -> Profile:
     from camfab.geometry.plate import OFFSET_SHARE
 
     grown = max(grow(chain, distance, OFFSET_SHARE * tolerance), key=len)
-    ring = densify(grown, MAX_CHORD_MM)
-    step = np.roll(ring, -1, axis=0) - ring
-    turn = np.abs(signed_angle(np.roll(step, 1, axis=0), step))
-    return fit_closed(ring, turn > CORNER_TURN, tolerance)
+    return fit_grown(grown, distance, tolerance)

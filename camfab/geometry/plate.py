@@ -16,9 +16,9 @@ import numpy as np
 
 from camfab.curves.profile import Profile
 from camfab.design import Design
-from camfab.geometry.arcfit import fit_arcs
 from camfab.geometry.disc_geometry import DiscGeometry
 from camfab.geometry.offset import grow
+from camfab.geometry.runs import fit_closed
 
 #: Share of the sampling tolerance left to an offset's round joins and to the flattening of arcs
 #: before an offset (:data:`~camfab.geometry.disc_geometry.PLATE_SAMPLING_SHARE` says the
@@ -105,10 +105,13 @@ def holes(design: Design) -> Contours:
     return Contours(profiles=(hole,))
 
 
-def fit_chain(points: np.ndarray, tolerance: float) -> Profile:
+def fit_chain(points: np.ndarray, tolerance: float, corners: np.ndarray | None = None) -> Profile:
     """The closed chain *points* (mm), sampled within *tolerance* (mm) of a curve, as lines and
-    arcs holding its chords within :data:`ARC_FACTOR` times that."""
-    return fit_arcs(points, ARC_FACTOR * tolerance, chords=True)
+    arcs holding its chords within :data:`ARC_FACTOR` times that, none across a vertex marked
+    in the mask *corners* (a trimmed cam's corners)."""
+    if corners is None:
+        corners = np.zeros(len(points), dtype=bool)
+    return fit_closed(points, corners, ARC_FACTOR * tolerance, chords=True)
 
 
 def offset_outline(points: np.ndarray, distance: float, tolerance: float) -> Profile:
@@ -133,7 +136,8 @@ def offset_holes(part: Contours, distance: float, tolerance: float) -> Contours:
 def plate(design: Design, geom: DiscGeometry) -> Plate:
     """The plate's contours: the part, the kerf-compensated CUT contours and the toolpath."""
     tolerance = geom.tolerance
-    outline = geom.profile if geom.exact else fit_chain(geom.profile.vertices, tolerance)
+    outline = (geom.profile if geom.exact
+               else fit_chain(geom.profile.vertices, tolerance, geom.corners))
 
     def around(distance: float) -> Profile:
         """The outline grown by *distance*: exactly for an exact outline of lines and arcs

@@ -156,3 +156,29 @@ def cut_away(raw_xy: Array, profile_xy: Array, tolerance: float) -> Mask:
     shapely.prepare(ring)  # an indexed test: plain distances take N·M time on long curves
     near = shapely.dwithin(ring, shapely.points(raw_xy), tolerance)
     return ~near & np.isfinite(raw_xy).all(axis=1)
+
+
+def crossings(xy: Array, points: Array) -> tuple[Index, Index]:
+    """The two chords of the closed polyline *xy* (chord i from point i to point i + 1) each of
+    *points* lies on, where the polyline crosses itself (the vertices a trim adds): the nearest
+    chord through the point and the nearest that shares no point with it, (K,) indices each,
+    −1 where there are not two (an indexed search: a cam whose every bump is undercut has
+    thousands of crossings and of chords)."""
+    count = len(xy)
+    chords = shapely.linestrings(np.stack((xy, np.roll(xy, -1, axis=0)), axis=1))
+    found = shapely.points(points)
+    reach = 1e-9 * (1.0 + float(np.abs(xy).max(initial=0.0)))  # far above rounding
+    point, chord = shapely.STRtree(chords).query(found, predicate="dwithin", distance=reach)
+    order = np.lexsort((shapely.distance(chords[chord], found[point]), point))
+    point, chord = point[order], chord[order]
+    first = np.full(len(points), -1)
+    second = np.full(len(points), -1)
+    if not point.size:
+        return first, second
+    starts = np.flatnonzero(np.r_[True, point[1:] != point[:-1]])
+    first[point[starts]] = chord[starts]
+    lead = np.repeat(chord[starts], np.diff(np.r_[starts, point.size]))
+    apart = np.abs((chord - lead + count // 2) % count - count // 2) > 1
+    kept, at = np.unique(point[apart], return_index=True)
+    second[kept] = chord[apart][at]
+    return first, second

@@ -150,9 +150,10 @@ def _verify_pair(analysis: Analysis, part: Part, files: PartFiles) -> Verificati
     dxf = files.files["dxf"]
     kerf = plates["a"].kerf
     back_a = read_back(design, geom_a, analysis.program, dxf[f"{name}-a.dxf"], kerf,
-                       f"{name}-a.dxf")
+                       f"{name}-a.dxf", holes=plates["a"].holes)
     back_b = read_back(design, geom_b, program_b, dxf[f"{name}-b.dxf"], kerf, f"{name}-b.dxf",
-                       lambda profile: to_made_frame(profile, partner.mirror))
+                       lambda profile: to_made_frame(profile, partner.mirror),
+                       holes=plates["b"].holes)
     stl_check = None
     if files.stl is not None:
         from camfab.export.stl import check_stl
@@ -168,8 +169,7 @@ def _verify_pair(analysis: Analysis, part: Part, files: PartFiles) -> Verificati
     worse = back_a.lift if back_a.lift.max_mm >= back_b.lift.max_mm else back_b.lift
     source = (f"{back_a.source} ({back_a.lift.max_mm:.3g} mm) and {back_b.source} "
               f"({back_b.lift.max_mm:.3g} mm), each under its own roller")
-    deviation = (None if back_a.deviation is None or back_b.deviation is None
-                 else max(back_a.deviation, back_b.deviation))
+    deviation = max(back_a.deviation, back_b.deviation)
     lift = LiftCheck(worse.theta, worse.error, worse.error_mm)
     cut_error = None
     if geom_a.undercut or geom_b.undercut:  # each cam's files held to the cam as computed

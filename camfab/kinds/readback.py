@@ -29,7 +29,7 @@ if TYPE_CHECKING:
     from camfab.export.part import Part
     from camfab.export.serialise import PartFiles
     from camfab.geometry.disc_geometry import DiscGeometry
-    from camfab.geometry.plate import Plate
+    from camfab.geometry.plate import Contours, Plate
     from camfab.motion.program import MotionProgram
 
 def against_cut(written: LiftCheck, cut: LiftCheck, tolerance: float) -> LiftCheck:
@@ -60,7 +60,8 @@ def verify_plate(analysis: Analysis, contours: Plate,
 
         stl_check = check_stl(files.stl.data, *expected_volume(analysis, contours))
     dxf = files.files["dxf"][f"{design.name}.dxf"]
-    back = read_back(design, geom, analysis.program, dxf, contours.kerf, f"{design.name}.dxf")
+    back = read_back(design, geom, analysis.program, dxf, contours.kerf, f"{design.name}.dxf",
+                     holes=contours.holes)
     return Verification(back.lift, back.source, back.entities, back.deviation, stl_check,
                         exempt=geom.undercut,
                         cut_error=against_cut(back.lift, geom.lift,
@@ -113,7 +114,7 @@ class ReadBack:
     lift: LiftCheck
     source: str
     entities: int
-    deviation: float | None
+    deviation: float
 
 
 def read_part(dxf: bytes, mm_per_unit: float, kerf: float, tolerance: float, file_name: str,
@@ -136,26 +137,100 @@ def read_part(dxf: bytes, mm_per_unit: float, kerf: float, tolerance: float, fil
 
 
 def read_back(design: Design, geom: DiscGeometry, program: MotionProgram, dxf: bytes, kerf: float,
-              file_name: str, move: Callable[[Profile], Profile] | None = None) -> ReadBack:
+              file_name: str, move: Callable[[Profile], Profile] | None = None,
+              holes: Contours | None = None) -> ReadBack:
     """Read a plate cam's CUT outline back from *dxf* (see :func:`read_part`) and run the
     follower of *geom* through *program* over it; *move* takes the outline from the frame the
-    file draws it in to the frame of *geom* (a conjugate pair's cam b)."""
-    from camfab.curves.plane import offset_inward
+    file draws it in to the frame of *geom* (a conjugate pair's cam b). Every CUT contour is
+    measured against the exact one (:func:`cut_deviation`; the part's *holes*, in the file's
+    frame)."""
     from camfab.geometry.disc_geometry import lift_check
 
     written, part, source = read_part(dxf, design.mm_per_unit, kerf, geom.tolerance, file_name,
                                       move)
-    deviation = None
-    if not geom.undercut:
-        exact = offset_inward(geom.dense.working, geom.cam.sigma, -kerf / 2.0)
-        deviation = float(written.distance(exact.xy).max())
+    deviation = max(outline_deviation(written, exact_outline(geom, program), kerf,
+                                      design.manufacturing.tolerance),
+                    holes_deviation(dxf, design.mm_per_unit, holes, kerf,
+                                    design.manufacturing.tolerance))
     return ReadBack(part, lift_check(geom.cam, program, part), source, len(written.vertices),
                     deviation)
 
 
+#: The exact contours the CUT contours are measured against are sampled within this share of
+#: the tolerance, and the contours read back cut into points within it: the distances found are
+#: within twice this share of the true ones.
+REFERENCE_SHARE = 1.0 / 32.0
+
+
+def exact_outline(geom: DiscGeometry, program: MotionProgram) -> Array:
+    """The part's outline as camfab computed it, as a closed chain of points (mm) within
+    :data:`REFERENCE_SHARE` of the tolerance of the exact curve: a cam drawn from its shape,
+    its lines and arcs; any other, the working curve sampled anew, and an undercut cam's with
+    its loops trimmed as camfab trims them (the cut cam: the design cannot be made, the undercut
+    check says so, and the files are held to the cam camfab computes)."""
+    from camfab.geometry.disc_geometry import cut_cam, sample_closed
+
+    share = REFERENCE_SHARE * geom.tolerance
+    if geom.exact:
+        return geom.profile.points(share)
+    working = sample_closed(geom.cam, program, "working", share)
+    if not geom.undercut:
+        return working.xy
+    pitch = sample_closed(geom.cam, program, "pitch", share)
+    return cut_cam(geom.cam, program, geom.dense, pitch, working, share)
+
+
+def outline_deviation(written: Profile, exact: Array, kerf: float, tolerance: float) -> float:
+    """The largest distance (mm) between the CUT outline *written* (read back, mm) and the
+    exact one: the outline through the points *exact* (mm) grown by kerf/2 as a beam runs
+    round it (round joins), each way: from points along the written lines and arcs to the
+    exact chain, and from the exact points to the written lines and arcs."""
+    from camfab.curves.profile import Profile
+    from camfab.geometry.offset import grow
+
+    share = REFERENCE_SHARE * tolerance
+    if kerf > 0.0:
+        exact = max(grow(exact, kerf / 2.0, share), key=len)
+    there = Profile.from_points(exact).distance(written.points(share))
+    back = written.distance(exact)
+    return float(max(there.max(initial=0.0), back.max(initial=0.0)))
+
+
+def holes_deviation(dxf: bytes, mm_per_unit: float, holes: Contours | None, kerf: float,
+                    tolerance: float) -> float:
+    """The largest distance (mm) between the CUT contours inside the outline of *dxf* (read
+    back, mm) and the part's *holes* shrunk by kerf/2 (a beam runs inside them): each circle's
+    radius against the hole's, each closed contour against the nearest hole each way; inf when
+    the file has another number of holes than the part."""
+    from camfab.curves.profile import Profile
+    from camfab.export.dxf import read_dxf
+    from camfab.geometry.offset import grow
+
+    drawing = read_dxf(dxf, mm_per_unit)
+    share = REFERENCE_SHARE * tolerance
+    circles = sorted((r - kerf / 2.0 for r in (holes.circles if holes else ())
+                      if r - kerf / 2.0 > 0.0), reverse=True)
+    rings = [ring for hole in (holes.profiles if holes else ())
+             for ring in grow(hole.points(share), -kerf / 2.0, share)]
+    written = drawing.cut_profiles[1:]
+    if len(drawing.cut_circles) != len(circles) or len(written) != len(rings):
+        return np.inf
+    worst = max((abs(a - b) for a, b in zip(drawing.cut_circles, circles, strict=True)),
+                default=0.0)
+    exact = [Profile.from_points(ring) for ring in rings]
+    for contour in written:
+        there = np.min([e.distance(contour.points(share)) for e in exact], axis=0)
+        worst = max(worst, float(there.max(initial=0.0)))
+    for ring in rings:
+        back = np.min([contour.distance(ring) for contour in written], axis=0)
+        worst = max(worst, float(back.max(initial=0.0)))
+    return worst
+
+
 def verification_finding(analysis: Analysis, check: Verification) -> Finding:
     """Do the files hold the design? The follower's lift over the geometry as written within
-    the tolerance, and the STL closed, outward and of the part's volume.
+    the tolerance, the CUT contours read back within it of the exact ones, and the STL closed,
+    outward and of the part's volume.
 
     An undercut cam's motion departs from the design on purpose (the undercut check says by how
     much): its files are held to the cam camfab computed instead. Where there is no such cam to
@@ -185,6 +260,15 @@ def verification_finding(analysis: Analysis, check: Verification) -> Finding:
         parts = [f"not applicable: {check.exempt_because}, so there is no cam whose "
                  f"motion the files could hold (see the {check.exempt_check} check); run over "
                  f"{check.source}, the roller moves up to {lift.max_mm:.3g} mm off the design"]
+    # (a groove that folds over has no exact walls to measure against)
+    deviation = check.deviation_mm if value is not None else None
+    deviation_ok = deviation is None or deviation <= tolerance
+    if deviation is not None:
+        parts.append(f"the CUT contours read back lie {deviation:.3g} mm at most from the "
+                     f"exact ones" + ("" if deviation_ok else f", over the tolerance "
+                                      f"{tolerance:.3g} mm: the files do not hold the design"))
+        if not deviation_ok:
+            value = deviation if value is None else max(value, deviation)
     stl = check.stl
     if stl is not None:
         shape = ("closed, outward, no degenerate face, short edge or sliver" if stl.watertight
@@ -206,8 +290,8 @@ def verification_finding(analysis: Analysis, check: Verification) -> Finding:
                      f"circles and {step.cylinders} cylinders, {step.volume_mm3:.6g} mm³ against "
                      f"{against} {step.expected_volume_mm3:.6g}, its faces "
                      f"{step.deviation_mm:.3g} mm at most off {off}")
-    ok = lift_ok and (stl is None or stl.ok) and (step is None or step.ok)
-    applicable = value is not None or (stl is not None and not stl.ok) or (
+    ok = lift_ok and deviation_ok and (stl is None or stl.ok) and (step is None or step.ok)
+    applicable = value is not None or not deviation_ok or (stl is not None and not stl.ok) or (
         step is not None and not step.ok)
     return Finding("verification", ok, "error", "; ".join(parts), value, tolerance, "mm",
                    applicable=applicable)
