@@ -32,7 +32,13 @@ def main() -> None:
     except BaseException:
         if not RECEIVED:
             raise
-    signum = hold_to_the_end()
+    while True:
+        try:
+            signum = hold_to_the_end()
+            break
+        except BaseException:  # a stop raised as it began (noted): hold again
+            if not RECEIVED:
+                raise
     if signum is not None:
         if code != 128 + signum:  # the stop came after the command's line
             sys.stderr.write(stop_line(signum) + "\n")
