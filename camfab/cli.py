@@ -1,7 +1,9 @@
 """The ``camfab`` command line: thin — parse, call the library, print, set the exit status.
 
 Exit status: 0 built and every check passed; 1 built (or checked) with a failed ``error`` check;
-2 the design or the command line is invalid (one line on stderr, nothing written).
+2 the design or the command line is invalid (one line on stderr, nothing written); 130 and 143
+stopped by Ctrl-C and SIGTERM; 74 standard output could not be written (:mod:`camfab.terminal`,
+as the ``camfab`` program).
 Heavy libraries are imported inside the commands so ``camfab --version`` stays instant.
 """
 

@@ -9,6 +9,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from camfab.analysis.record import terse
+from camfab.terminal import fit
 
 if TYPE_CHECKING:
     from camfab.analysis.record import Analysis
@@ -39,17 +40,18 @@ def print_summary(analysis: Analysis) -> None:
     with_speed = cam.omega is not None
     table = Table(title="motion program", title_justify="left")
     for name in ("#", "segment", "law", "θ (°)", column_label(units.lift_key)):
-        table.add_column(name)
+        table.add_column(fit(name), overflow="fold")  # (no "…" to stand in for)
     for order, label in ((1, "v"), (2, "a"), (3, "j")):
-        table.add_column(f"max {label} ({units.unit(order, with_speed)})", justify="right")
+        table.add_column(fit(f"max {label} ({units.unit(order, with_speed)})"), justify="right")
     numbers = analysis.result.numbers
-    table.add_column("max φ (°)", justify="right")
+    table.add_column(fit("max φ (°)"), justify="right")
     for stats in analysis.segments:
         peaks = stats.max_si if stats.max_si is not None else stats.max_per_rad
         extra = [_num(numbers.segment_pressure[stats.index].value)]
-        table.add_row(str(stats.index), stats.kind, stats.law,
-                      f"{stats.start_deg:g}–{stats.end_deg:g}", f"{stats.lift:.6g}",
-                      *(_num(v) for v in peaks), *extra)
+        cells = (str(stats.index), stats.kind, stats.law,
+                 f"{stats.start_deg:g}–{stats.end_deg:g}", f"{stats.lift:.6g}",
+                 *(_num(v) for v in peaks), *extra)
+        table.add_row(*(fit(cell) for cell in cells))
     console.print(table)
     for line in analysis.result.summary(analysis):
         console.print(line)
@@ -115,5 +117,6 @@ def laws_table() -> None:
         aliases = ", ".join(info.aliases)
         if info.params:
             aliases = (aliases + "; " if aliases else "") + "takes " + ", ".join(info.params)
-        table.add_row(info.name, aliases, cv, ca, cj, info.continuity)
+        table.add_row(*(fit(cell) for cell in (info.name, aliases, cv, ca, cj,
+                                                info.continuity)))
     _console().print(table)

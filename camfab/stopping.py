@@ -13,6 +13,7 @@ stop still comes within the block's time (a fraction of a second) and ends camfa
 
 from __future__ import annotations
 
+import os
 from collections.abc import Iterator
 from contextlib import contextmanager
 from typing import Any
@@ -49,11 +50,23 @@ def deferred() -> Iterator[None]:
     try:
         yield
     finally:
-        _DEPTH.pop()
+        if _DEPTH:  # (empty in a process forked inside the block: see _forget)
+            _DEPTH.pop()
         if not _DEPTH and _PENDING:
             signum = _PENDING[0]
             _PENDING.clear()
             signal.raise_signal(signum)
+
+
+def _forget() -> None:
+    """In a process forked inside a :func:`deferred` block (a batch's worker): its own stops
+    are not put off, and those the parent had noted are not its own."""
+    _DEPTH.clear()
+    _PENDING.clear()
+
+
+if hasattr(os, "register_at_fork"):
+    os.register_at_fork(after_in_child=_forget)
 
 
 def defer(signum: int) -> bool:
@@ -128,30 +141,47 @@ def signals_held() -> Iterator[None]:
     """Hold the signals that stop camfab for the block (they come, in order, as it ends): for
     work that must be done whole or not at all — a set of files renamed into place, a pool of
     workers set up (a stop raised inside ``submit``, between forking the workers and starting
-    the thread that feeds them, leaves workers that wait for work forever)."""
+    the thread that feeds them, leaves workers that wait for work forever).
+
+    The signals are blocked in this thread, and camfab's handler puts them off too
+    (:func:`deferred`): a signal blocked here goes to another thread of the process that does
+    not block it (numpy's BLAS, manifold3d's workers), whose handler has this thread run
+    Python's handler of it all the same. Only this thread's mask changes: never a handler."""
     import signal
 
-    if not hasattr(signal, "pthread_sigmask"):
-        yield
-        return
-    held = {getattr(signal, name) for name in STOPPING if hasattr(signal, name)}
-    old = signal.pthread_sigmask(signal.SIG_BLOCK, held)
-    try:
-        yield
-    finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+    with deferred():
+        if not hasattr(signal, "pthread_sigmask"):
+            yield
+            return
+        held = {getattr(signal, name) for name in STOPPING if hasattr(signal, name)}
+        old = signal.pthread_sigmask(signal.SIG_BLOCK, held)
+        try:
+            yield
+        finally:
+            signal.pthread_sigmask(signal.SIG_SETMASK, old)
 
 
 def hold_to_the_end() -> int | None:
     """Hold the stopping signals for the rest of the process (its exit and the interpreter's
     shutdown, when Python's own handlers are gone and a signal would kill it without a word),
-    and return the first one that came meanwhile or was noted (None: none)."""
+    and return the first one that came meanwhile or was noted (None: none).
+
+    For the ``camfab`` program's main thread alone (it sets handlers): from here on camfab's
+    handler notes a stop and returns (:func:`deferred`, never ended); the signals are blocked
+    in this thread; those that came are noted, then ignored (``SIG_IGN``, which the
+    interpreter's shutdown keeps, in every thread: a thread of a native library that does not
+    block them would otherwise die of one, and the process with it)."""
+    _DEPTH.append(1)  # first: a stop from here on is noted, not raised
     import signal
 
+    held = {getattr(signal, name) for name in STOPPING if hasattr(signal, name)}
     if hasattr(signal, "pthread_sigmask"):
-        held = {getattr(signal, name) for name in STOPPING if hasattr(signal, name)}
         signal.pthread_sigmask(signal.SIG_BLOCK, held)
         pending = sorted(signal.sigpending() & held)
         if pending and not RECEIVED:
             RECEIVED.append(pending[0])
+    for number in sorted(held):
+        if signal.getsignal(number) is raise_interrupted:  # (checks for a stop first)
+            signal.signal(number, signal.SIG_IGN)
+    _PENDING.clear()
     return RECEIVED[0] if RECEIVED else None

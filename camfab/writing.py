@@ -2,12 +2,14 @@
 an interrupted or failed build (or sweep, or inspection) leaves the earlier set intact.
 
 The set is replaced as a set: the renames run with the stopping signals held
-(:func:`~camfab.stopping.signals_held`), so a Ctrl-C or SIGTERM lands before the first rename
-(the earlier files stay, the new ones are removed) or after the last (the new set is whole),
-never between. Only what no program can put off — SIGKILL, a power cut — can stop it between
-two renames (each file still whole, a mix of old and new); the temporary files such a stop
-leaves are removed by the next build of the same files. A folder made for the set is removed
-again when nothing could be written into it.
+(:func:`~camfab.stopping.signals_held`: blocked in this thread, and put off by camfab's handler
+when another thread of the process takes them), so a Ctrl-C or SIGTERM lands before the first
+rename (the earlier files stay, the new ones are removed) or after the last (the new set is
+whole), never between. A temporary file is noted as it is made (a stop waits for that), and the
+temporary files are removed with a second stop put off. Only what no program can put off —
+SIGKILL, a power cut — can stop it between two renames (each file still whole, a mix of old and
+new); the temporary files such a stop leaves are removed by the next build of the same files. A
+folder made for the set is removed again when nothing could be written into it.
 """
 
 from __future__ import annotations
@@ -20,7 +22,7 @@ from pathlib import Path
 from typing import BinaryIO
 
 from camfab.errors import OutputError
-from camfab.stopping import signals_held
+from camfab.stopping import deferred, signals_held
 
 #: A temporary file older than this (seconds) is stale even when its process id is in use again.
 STALE_TEMP_SECONDS = 24 * 3600
@@ -50,8 +52,9 @@ def write_files(folder: Path, files: Mapping[str, bytes],
     try:
         remove_stale_temps(folder, files)
         for name, data in files.items():
-            temp, stream = open_temp(folder, name)
-            temps.append((temp, folder / name))
+            with deferred():  # a stop comes once the temporary file is made and noted
+                temp, stream = open_temp(folder, name)
+                temps.append((temp, folder / name))
             with stream:
                 stream.write(data)
         for _, final in temps:  # a folder in the way would stop the renames half done
@@ -61,9 +64,10 @@ def write_files(folder: Path, files: Mapping[str, bytes],
             for temp, final in temps:
                 os.replace(temp, final)
     except BaseException as exc:
-        for temp, _ in temps:
-            temp.unlink(missing_ok=True)
-        remove_made(folder, made)
+        with deferred():  # a second stop waits for the removal of the temporary files
+            for temp, _ in temps:
+                temp.unlink(missing_ok=True)
+            remove_made(folder, made)
         if isinstance(exc, OSError) and not isinstance(exc, OutputError):
             raise cannot_write(folder, exc) from None
         raise
@@ -87,7 +91,8 @@ def replace_file(path: Path, data: bytes) -> None:
     temp: Path | None = None
     try:
         mode = stat.S_IMODE(os.stat(path).st_mode)
-        temp, stream = open_temp(folder, path.name)
+        with deferred():  # a stop comes once the temporary file is made and noted
+            temp, stream = open_temp(folder, path.name)
         with stream:
             stream.write(data)
         os.chmod(temp, mode)
@@ -99,7 +104,8 @@ def replace_file(path: Path, data: bytes) -> None:
                           ) from None
     finally:
         if temp is not None:
-            temp.unlink(missing_ok=True)
+            with deferred():
+                temp.unlink(missing_ok=True)
 
 
 def cannot_write(folder: Path, exc: OSError) -> OutputError:

@@ -126,3 +126,156 @@ def test_a_set_of_files_is_renamed_whole_when_a_stop_comes_between(tmp_path: Pat
     assert len(done) == 3
     assert {p.name: p.read_bytes() for p in tmp_path.iterdir()} == {
         "a.dxf": b"new", "b.svg": b"new", "c.stl": b"new"}
+
+
+def test_a_stop_passed_to_another_thread_still_waits_for_the_last_rename(tmp_path: Path,
+                                                                          monkeypatch) -> None:
+    """The renames' thread blocks the stops; the kernel then gives one to another thread of the
+    process (numpy's BLAS, manifold3d's workers have theirs), whose handler has the main thread
+    run Python's all the same: it too waits for the last rename."""
+    import threading
+
+    writing.write_files(tmp_path, {"a.dxf": b"old", "b.svg": b"old", "c.stl": b"old"})
+    other = threading.Thread(target=time.sleep, args=(5,), daemon=True)  # stops not blocked
+    other.start()
+    real = os.replace
+    done = []
+
+    def replace(source, target):  # type: ignore[no-untyped-def]
+        real(source, target)
+        done.append(target)
+        if len(done) == 1:
+            signal.pthread_kill(other.ident, signal.SIGTERM)
+            time.sleep(0.05)  # (a wait with its checks for signals, as any code has)
+
+    old = signal.signal(signal.SIGTERM, stopping.raise_interrupted)
+    monkeypatch.setattr(writing.os, "replace", replace)
+    try:
+        with pytest.raises(stopping.Interrupted):
+            writing.write_files(tmp_path, {"a.dxf": b"new", "b.svg": b"new", "c.stl": b"new"})
+    finally:
+        signal.signal(signal.SIGTERM, old)
+    assert len(done) == 3
+    assert {p.name: p.read_bytes() for p in tmp_path.iterdir()} == {
+        "a.dxf": b"new", "b.svg": b"new", "c.stl": b"new"}
+
+
+def test_a_stop_as_a_temporary_file_is_made_leaves_none(tmp_path: Path, monkeypatch) -> None:
+    """A stop between the making of a temporary file and the noting of it: the earlier set
+    stays, and no temporary file."""
+    writing.write_files(tmp_path, {"a.dxf": b"old", "b.svg": b"old"})
+    real = os.fdopen
+
+    def fdopen(*args, **kwargs):  # type: ignore[no-untyped-def]
+        signal.raise_signal(signal.SIGINT)  # the file is made: its stream is not yet
+        return real(*args, **kwargs)
+
+    old = signal.signal(signal.SIGINT, stopping.raise_interrupted)
+    monkeypatch.setattr(writing.os, "fdopen", fdopen)
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            writing.write_files(tmp_path, {"a.dxf": b"new", "b.svg": b"new"})
+    finally:
+        signal.signal(signal.SIGINT, old)
+    assert {p.name: p.read_bytes() for p in tmp_path.iterdir()} == {"a.dxf": b"old",
+                                                                     "b.svg": b"old"}
+
+
+def test_a_stop_after_the_last_word_does_not_kill_camfab_silently(tmp_path: Path) -> None:
+    """Once the program holds its stops for its exit, a stop the kernel gives another thread
+    (one of a native library's, which blocks nothing) neither raises nor kills the process as
+    the interpreter shuts down and gives up Python's handlers."""
+    script = ("import os, signal, sys, threading, time\n"
+              "from camfab.stopping import catch, hold_to_the_end\n"
+              "catch()\n"
+              "threading.Thread(target=time.sleep, args=(30,), daemon=True).start()\n"
+              "print(hold_to_the_end(), flush=True)\n"
+              "for _ in range(3):\n"
+              "    os.kill(os.getpid(), signal.SIGINT)\n"
+              "    time.sleep(0.05)\n"
+              "sys.exit(5)\n")
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
+                          env=child_env(), timeout=120)
+    assert (done.returncode, done.stdout, done.stderr) == (5, "None\n", "")
+
+
+def _forked_build(design: Path, out: Path, err: Path) -> int:
+    """``camfab build DESIGN -o OUT`` as the program (:func:`camfab.start.main`) in a child
+    forked from this process, its stderr into *err*, with a thread that does not block the
+    stopping signals (as a native library's): the child's pid."""
+    pid = os.fork()
+    if pid:
+        return pid
+    code = 70
+    try:
+        import threading
+
+        os.dup2(os.open(os.devnull, os.O_WRONLY), 1)
+        os.dup2(os.open(err, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600), 2)
+        sys.stdout = open(1, "w", closefd=False)
+        sys.stderr = open(2, "w", closefd=False)
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+        signal.signal(signal.SIGTERM, signal.SIG_DFL)
+        stopping.RECEIVED.clear()
+        threading.Thread(target=time.sleep, args=(60,), daemon=True).start()
+        sys.argv = ["camfab", "build", str(design), "-o", str(out)]
+        from camfab.start import main
+
+        main()
+    except SystemExit as exc:
+        code = exc.code if isinstance(exc.code, int) else 1
+    except BaseException:
+        import traceback
+
+        traceback.print_exc()
+    finally:
+        os._exit(code)
+
+
+def test_builds_stopped_while_they_write_leave_a_whole_set(tmp_path: Path) -> None:
+    """Builds stopped at random moments while they write their files (from the first temporary
+    file on): the folder holds the whole earlier set or the whole new one, no temporary file,
+    and camfab ends with the build's own status or with its one line and 128 + the signal."""
+    import random
+
+    from camfab.pipeline import build
+
+    from .limited_child import _wait, _warm
+
+    _warm()
+    earlier = tmp_path / "earlier.yaml"
+    earlier.write_text(DESIGN.read_text().replace("base_radius: 20", "base_radius: 21", 1))
+    sets = {}
+    for name, design in (("old", earlier), ("new", DESIGN)):
+        build(design, tmp_path / name)
+        sets[name] = {p.name: p.read_bytes() for p in (tmp_path / name).iterdir()}
+    assert all(sets["old"][k] != sets["new"][k] for k in sets["new"])
+    rng = random.Random(45)
+    seen = set()
+    for trial in range(6):
+        signum = (signal.SIGINT, signal.SIGTERM)[trial % 2]
+        out, err = tmp_path / f"out-{trial}", tmp_path / f"err-{trial}"
+        out.mkdir()
+        for name, data in sets["old"].items():
+            (out / name).write_bytes(data)
+        pid = _forked_build(DESIGN, out, err)
+        started = time.monotonic()
+        while not any(p.suffix == ".tmp" for p in out.iterdir()):
+            if os.waitid(os.P_PID, pid, os.WEXITED | os.WNOHANG | os.WNOWAIT) is not None \
+                    or time.monotonic() - started > 120:  # (ended, not reaped)
+                break
+            time.sleep(0.0005)  # (the child's core is not taken by the wait)
+        time.sleep(rng.uniform(0.0, 0.004))
+        os.kill(pid, signum)  # (a child that ended is a zombie until it is waited for)
+        status, _ = _wait(pid, time.monotonic() + 300)
+        code = -os.WTERMSIG(status) if os.WIFSIGNALED(status) else os.WEXITSTATUS(status)
+        files = {p.name: p.read_bytes() for p in out.iterdir()}
+        lines = err.read_text().splitlines()
+        assert files in (sets["old"], sets["new"]), (trial, sorted(files))
+        if code in (0, 1):
+            assert (files, lines) == (sets["new"], []), (trial, lines)
+            seen.add("done")
+        else:
+            assert (code, lines) == (128 + signum, [LINES[signum]]), (trial, lines)
+            seen.add("old" if files == sets["old"] else "new")
+    assert "old" in seen

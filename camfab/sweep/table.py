@@ -36,6 +36,7 @@ class TableWriter:
 
     def __init__(self, folder: Path, stem: str, columns: Sequence[str],
                  kinds: dict[str, str], parquet: bool) -> None:
+        from camfab.stopping import deferred
         from camfab.writing import open_temp, remove_stale_temps
 
         self.columns = tuple(columns)
@@ -49,7 +50,8 @@ class TableWriter:
         self.rows = 0
         with self._guard():
             remove_stale_temps(folder, [self.path.name])
-            self.temp, self._stream = open_temp(folder, self.path.name)
+            with deferred():  # a stop comes once the temporary file is made and noted
+                self.temp, self._stream = open_temp(folder, self.path.name)
             if not parquet:
                 self._stream.write((",".join(_csv_cell(c) for c in self.columns) + "\n")
                                    .encode("utf-8"))
