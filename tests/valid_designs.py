@@ -293,7 +293,7 @@ def _disc(d: Draw, follower: str, motion: str) -> dict[str, Any]:
     elif follower == "mushroom":
         fol["face_radius"] = _length(d, max(rb, 15), 4 * rb, 1)
     if motion == "oscillating":
-        lift = _angle(d, 6, 30, 1)
+        lift = _angle(d, 5, 12 if follower == "flat" else 16, 1)
         _pivot(d, fol, rb + fol.get("roller_radius", 0.0) + fol.get("face_radius", 0.0))
     elif follower == "flat":
         if motion == "oscillating":
@@ -332,6 +332,10 @@ def _shaped(d: Draw, shape: str, follower: str) -> dict[str, Any]:
         cam["lift_angle"] = _angle(d, 45, 80)
     else:
         cam["nose_radius"] = _length(d, 0.12 * (rb + lift), 0.4 * rb)
+    if shape == "tangent" and follower in ("knife", "roller"):  # its flanks are steep
+        cam["lift"] = lift = _length(d, 0.1 * rb, 0.3 * rb)
+        cam.pop("nose_radius", None)
+        cam["lift_angle"] = _angle(d, 60, 85)
     if _chance(d, 0.3):
         cam["top_dwell"] = _angle(d, 5, 40)
     _blank(d, rb, cam)
@@ -366,8 +370,8 @@ def _flank_angles(rb: float, lift: float, lift_angle: float) -> list[float]:
 def _drum(d: Draw) -> dict[str, Any]:
     roller = _length(d, 3, 12)
     clearance = d.choice([0, 0.02, 0.05, 0.1, 0.2])
-    lift = _length(d, 8, 60, 1)
     radius = _length(d, max(25, 2.5 * roller + 10), 120, 1)
+    lift = _length(d, 6, max(6, min(60, 0.4 * radius)), 1)
     depth = _length(d, max(3.0, 0.6 * roller), min(1.4 * roller, radius - 10), 0.5)
     cam: dict[str, Any] = {"type": "cylindrical"}
     _turning(d, cam, (30, 400))
@@ -432,7 +436,7 @@ def _conjugate(d: Draw, motion: str) -> dict[str, Any]:
         if _chance(d, 0.3):
             fol["offset"] = _length(d, -0.1 * rb, 0.1 * rb)
     else:
-        lift = _angle(d, 6, 25, 1)
+        lift = _angle(d, 5, 16, 1)
         _pivot(d, fol, rb + roller)
         fol["arm_angle"] = _angle(d, 50, 90, 1)
     return {"cam": cam, "follower": fol, "motion": _motion(d, 360, lift),
@@ -464,8 +468,9 @@ def _globoid(d: Draw, blank: str) -> dict[str, Any]:
         arm = _length(d, 0.3 * c, 0.62 * c - length / 2, 1)
     else:  # the pitch radius arm − c, the roller and its crown inside the pivot axis
         c = _length(d, 50, 110, 5)
-        arm = c + _length(d, max(length / 2 + 8, depth + 12), c - length / 2 - 6, 1)
-    swing = _angle(d, 15, 50, 1)
+        top = c - length / 2 - 6
+        arm = c + _length(d, max(length / 2 + 8, depth + 12, 0.7 * top), top, 1)
+    swing = _angle(d, 15, 50, 1) if blank == "concave" else _angle(d, 8, 22, 1)
     cam: dict[str, Any] = {"type": "globoidal", "globoid": blank}
     _turning(d, cam, (20, 120))
     cam["groove_depth"] = depth
