@@ -20,7 +20,9 @@ import pytest
 from hypothesis import HealthCheck, Phase, given, note, settings
 from hypothesis import strategies as st
 
-from tests.valid_designs import KINDS, HypothesisDraw, design
+from camfab.errors import CamfabError
+from camfab.pipeline import design_from_text
+from tests.valid_designs import KINDS, HypothesisDraw, design, design_of_seed
 from tests.whole_builds import build_design, dump
 
 #: Designs built per kind: 27 kinds, some 60–90 s on two cores in all.
@@ -50,3 +52,16 @@ def test_random_valid_designs_build_verified(kind: str, data: st.DataObject) -> 
     assert check["ok"] is not False, (
         f"verification failed ({outcome.ratio:.3g}× the tolerance; other failed checks: "
         f"{', '.join(outcome.failed_checks) or 'none'}): {check['message']}")
+
+
+@pytest.mark.parametrize("kind", KINDS)
+def test_random_valid_designs_are_mostly_accepted(kind: str) -> None:
+    """The generator's designs are valid: the loader accepts at least three of four (a refusal
+    is an ordinary first try, but a generator whose designs it refuses tests nothing)."""
+    refused = []
+    for seed in range(4):
+        try:
+            design_from_text(dump(design_of_seed(seed, kind)[1]), "design.yaml")
+        except CamfabError as exc:
+            refused.append(f"seed {seed}: {exc}")
+    assert len(refused) <= 1, "the loader refuses:\n" + "\n".join(refused)

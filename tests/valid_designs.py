@@ -327,7 +327,10 @@ def _shaped(d: Draw, shape: str, follower: str) -> dict[str, Any]:
         if follower == "flat" and flanks and _chance(d, 0.5):
             cam["flank_angle"] = d.choice(flanks)
         else:
-            cam["nose_radius"] = _length(d, 0.12 * (rb + lift), 0.35 * rb)
+            # a convex flank needs rn < (rb − (rb + h) cos α) / (1 − cos α)
+            cos = math.cos(math.radians(cam["lift_angle"]))
+            most = min(0.35 * rb, 0.95 * (rb - (rb + lift) * cos) / (1 - cos))
+            cam["nose_radius"] = _length(d, 0.12 * (rb + lift), max(most, 0.12 * (rb + lift)))
     elif _chance(d, 0.6):
         cam["lift_angle"] = _angle(d, 45, 80)
     else:
