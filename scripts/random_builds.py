@@ -70,6 +70,7 @@ def row(name: str, kind: str, text: str, outcome: BuildOutcome) -> dict[str, Any
         "verification_failed": outcome.verification_failed,
         "ratio": outcome.ratio, "stl_unclean": outcome.stl_unclean,
         "verification": check.get("message"), "other_failed": outcome.failed_checks,
+        "steps": outcome.steps,
         "verification_na": bool(check) and check.get("ok") is None,
         "text": text,
     }
@@ -146,9 +147,22 @@ def table(results: list[dict[str, Any]]) -> list[str]:
     return lines
 
 
+def cause(result: dict[str, Any]) -> str:
+    """What about the design a failed verification goes with: an undercut, a step in the
+    velocity or the acceleration, or none (smooth motion, every other check passed or not)."""
+    if any(c.startswith("undercut") for c in result["other_failed"]):
+        return "undercut"
+    steps = result.get("steps") or []
+    if "velocity" in steps:
+        return "velocity step"
+    if "acceleration" in steps:
+        return "acceleration step"
+    return "smooth motion" + ("" if result["other_failed"] else ", every other check passed")
+
+
 def classes(results: list[dict[str, Any]]) -> list[str]:
-    """The failures by class: what failed, the kind's cam type, the ratio's band; each with its
-    count and its designs (the smallest file first)."""
+    """The failures by class: what failed, the kind's cam type, the cause (:func:`cause`), the
+    ratio's band; each with its count and its designs (the smallest file first)."""
     groups: dict[tuple[str, ...], list[dict[str, Any]]] = defaultdict(list)
     for r in results:
         if r["internal"]:
@@ -157,8 +171,7 @@ def classes(results: list[dict[str, Any]]) -> list[str]:
             groups[("unlocated exit 2", r["kind"].split("/")[0], "")].append(r)
         elif r["verification_failed"]:
             what = "verification, STL not clean" if r["stl_unclean"] else "verification"
-            others = "+".join(r["other_failed"]) or "no other check failed"
-            groups[(what, r["kind"].split("/")[0], band(r["ratio"]), others)].append(r)
+            groups[(what, r["kind"].split("/")[0], cause(r), band(r["ratio"]))].append(r)
     lines = []
     for key in sorted(groups, key=lambda k: (-len(groups[k]), k)):
         rows = sorted(groups[key], key=lambda r: len(r["text"]))
@@ -166,6 +179,17 @@ def classes(results: list[dict[str, Any]]) -> list[str]:
         more = f" and {len(rows) - 6} more" if len(rows) > 6 else ""
         lines.append(f"- {' / '.join(k for k in key if k)}: {len(rows)} — {names}{more}")
     return lines
+
+
+def replayed(text: str) -> tuple[str, str]:
+    """The kind and the design of a saved design file (its kind from the comment at its head,
+    which is left out), or ``replay`` and the whole text for another file."""
+    lines = text.splitlines(keepends=True)
+    head = 0
+    while head < len(lines) and lines[head].startswith("#"):
+        head += 1
+    kind = lines[0][2:].split(":")[0] if head and lines[0][2:].split(":")[0] in KINDS else None
+    return (kind, "".join(lines[head:])) if kind else ("replay", text)
 
 
 def main() -> None:
@@ -186,7 +210,7 @@ def main() -> None:
     args = parser.parse_args()
 
     if args.replay:
-        tasks = [(p.stem, "replay", p.read_text(encoding="utf-8"), args.cpu)
+        tasks = [(p.stem, *replayed(p.read_text(encoding="utf-8")), args.cpu)
                  for p in args.replay]
     else:
         kinds = chosen_kinds(args.kinds)
@@ -208,7 +232,8 @@ def main() -> None:
             for task in tasks:
                 _record(one(task), results, log, args.out, len(tasks))
     print()
-    print(f"{len(results)} designs (seed {args.seed}) in {time.monotonic() - started:.0f} s")
+    print(f"{len(results)} designs" + ("" if args.replay else f" (seed {args.seed})")
+          + f" in {time.monotonic() - started:.0f} s")
     print()
     print("\n".join(table(results)))
     failures = classes(results)

@@ -73,6 +73,14 @@ class BuildOutcome:
                        and c["ok"] is False and c["severity"] == "error"})
 
     @property
+    def steps(self) -> list[str]:
+        """What the motion steps in, by the failed ``continuity`` checks (``velocity``, an
+        error; ``acceleration``, a warning)."""
+        return sorted({c.get("quantity") or "?" for c in self.checks
+                       if c["id"] == "continuity" and c["ok"] is False
+                       and c.get("quantity") in ("velocity", "acceleration")})
+
+    @property
     def verification_failed(self) -> bool:
         """True when the files do not hold a buildable design: the ``verification`` check
         failed. A design the checks declare unbuildable has its verification *not applicable*
