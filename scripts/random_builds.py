@@ -33,12 +33,15 @@ from tests.valid_designs import KINDS, design  # noqa: E402
 from tests.whole_builds import BUILD_CPU_S, BuildOutcome, build_design, dump  # noqa: E402
 
 #: The deviation/tolerance ratios a failed verification is classed by.
-RATIO_BANDS = ((1.2, "<1.2x"), (2.0, "1.2-2x"), (10.0, "2-10x"), (float("inf"), ">=10x"))
+RATIO_BANDS = ((1.2, "1-1.2x"), (2.0, "1.2-2x"), (10.0, "2-10x"), (float("inf"), ">=10x"))
 
 
 def band(ratio: float | None) -> str:
+    """The band of a deviation/tolerance *ratio* (None: the lift is not compared)."""
     if ratio is None:
-        return "no value"
+        return "lift not compared"
+    if ratio <= 1.0:
+        return "lift within tolerance"
     return next(name for top, name in RATIO_BANDS if ratio < top)
 
 
