@@ -92,7 +92,7 @@ def describe(result: dict[str, Any]) -> str:
     ratio = result["ratio"]
     return (f"VERIFICATION {ratio:.3g}x" if ratio is not None else "VERIFICATION") + (
         " (STL not clean)" if result["stl_unclean"] else "") + (
-        f"; other failed checks: {other}; {result['verification'][:400]}")
+        f"; other failed checks: {other}; {result['verification']}")
 
 
 def save(result: dict[str, Any], out: Path) -> Path:
