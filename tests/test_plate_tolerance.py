@@ -187,3 +187,70 @@ def test_arcs_hold_the_chords_when_asked() -> None:
         flat = fit_arcs(chain, 0.1, chords=chords).points(1e-6)
         stray = float(shapely.distance(polygon, shapely.points(flat)).max())
         assert stray <= 0.1 if chords else stray == pytest.approx(sagitta, rel=1e-3)
+
+
+KNIFE_VELOCITY_STEP_KERF = """\
+name: knife-kerf-hollow
+cam: {type: disc, rotation: cw, base_radius: 28.781, thickness: 8, bore: 10}
+follower: {type: knife, motion: translating, offset: 3.0833}
+motion:
+  - rise:   {angle: 157, lift: 17.539, law: uniform-velocity}
+  - dwell:  {angle: 42}
+  - return: {angle: 75, law: uniform-velocity}
+  - dwell:  {angle: 86}
+manufacturing: {tolerance: 0.00064004, kerf: 0.26452}
+"""
+
+
+def knife_lift_over(design, ring: np.ndarray, theta: np.ndarray) -> np.ndarray:  # type: ignore[no-untyped-def]
+    """A translating knife's lift (mm) over the plate inside *ring* (mm) at each cam angle
+    *theta* (rad), by brute force: the plate turned to the angle (a point of the cam appears
+    in the frame at Rot(σθ)·P), cut by the knife's line x = offset, the highest point of the
+    cut less the base circle's on that line."""
+    sigma = design.cam.sigma
+    offset = design.follower.offset
+    base = design.cam.base_radius
+    lift = np.empty(len(theta))
+    for i, angle in enumerate(theta):
+        c, s = math.cos(sigma * angle), math.sin(sigma * angle)
+        turned = ring @ np.array([[c, s], [-s, c]])
+        line = shapely.LineString([(offset, -1e3), (offset, 1e3)])
+        hit = shapely.Polygon(turned).intersection(line)
+        lift[i] = max(y for _, y in hit.coords) if hit.geom_type == "LineString" else max(
+            y for part in hit.geoms for _, y in part.coords)
+    return lift - math.sqrt(base * base - offset * offset)
+
+
+def test_a_beam_rounds_a_knifes_sharp_hollow() -> None:
+    """A knife whose return ends at a velocity step has a sharp hollow there (its rise
+    starts at another), which a laser's
+    beam (radius kerf/2) cannot cut: the ``kerf`` check fails and says how far the cam as cut
+    moves the follower, as a brute-force run of the knife over the exact profile closed by the
+    beam finds it (shapely's buffer out and back, far finer than the tolerance); the files are
+    held to that cam, and hold it. With laws of no velocity step the beam cuts the design:
+    the check passes and the verification is the plain one."""
+    from camfab.analysis.cam_checks import tool_cut
+
+    design = design_from_text(KNIFE_VELOCITY_STEP_KERF)
+    analysis, _ = verify_exports(analyse(design, advice=False), ("dxf",))
+    tolerance = design.manufacturing.tolerance
+    found = {f.id: f for f in analysis.findings}
+    assert found["verification"].ok and found["verification"].value <= tolerance
+    assert not found["kerf"].ok and found["kerf"].value == 0.0
+    assert "cam as cut" in found["kerf"].message
+    beam = design.manufacturing.kerf / 2.0
+    cut = tool_cut(design, analysis.geometry, beam)
+    assert cut is not None and cut.made.max_mm > 2.0 * tolerance
+    exact = shapely.Polygon(exact_working(design))
+    closed = exact.buffer(beam, quad_segs=256).buffer(-beam, quad_segs=256)
+    at = math.radians(cut.made.at_deg)
+    theta = at + np.radians(np.linspace(-1.0, 1.0, 201))
+    brute = knife_lift_over(design, np.asarray(closed.exterior.coords), theta)
+    off = np.abs(brute - design.program.evaluate(theta)[0]).max()
+    assert off == pytest.approx(cut.made.max_mm, abs=0.1 * tolerance)
+
+    smooth = design_from_text(KNIFE_VELOCITY_STEP_KERF.replace("uniform-velocity", "cycloidal"))
+    analysis, _ = verify_exports(analyse(smooth, advice=False), ("dxf",))
+    found = {f.id: f for f in analysis.findings}
+    assert found["kerf"].ok and "follows the whole profile" in found["kerf"].message
+    assert found["verification"].ok and "design motion" in found["verification"].message

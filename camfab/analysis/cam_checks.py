@@ -16,7 +16,7 @@ from camfab.analysis.findings import Finding, listed
 from camfab.angles import Extreme, Range, extreme, merge, ranges_deg
 from camfab.arrays import Array, Index, Mask
 from camfab.design import Design
-from camfab.geometry.disc_geometry import DiscGeometry
+from camfab.geometry.disc_geometry import DiscGeometry, LiftCheck
 from camfab.motion.program import MotionProgram
 
 
@@ -247,17 +247,32 @@ def face_width_finding(design: Design, numbers: CamNumbers) -> Finding | None:
                    f"{fmt(fol.face_width)} mm {verdict}", needed, fol.face_width, "mm")
 
 
-def cutter_finding(design: Design, geom: DiscGeometry, numbers: CamNumbers,
-                   program: MotionProgram | None = None) -> Finding | None:
-    """Can a milling cutter of ``cutter_radius`` (running outside the outline) make the profile?
+@dataclass(frozen=True)
+class ToolCut:
+    """Where a tool of ``radius`` (mm) running around the outside of a plate's outline cannot
+    follow it, and the cam it makes: ``closed`` the outline it leaves (mm), ``spots`` the cam
+    angles (deg) where it leaves material under the follower's contact, ``depth`` the most it
+    leaves there (mm), ``tightest`` the smallest concave radius under its own there (mm; None
+    where only a sharp hollow stops it) and ``made`` the follower run over the cam it makes."""
+
+    radius: float
+    closed: Array
+    spots: tuple[Range, ...]
+    depth: float
+    tightest: float | None
+    made: LiftCheck
+
+
+def tool_cut(design: Design, geom: DiscGeometry, radius: float,
+             program: MotionProgram | None = None, leave: float | None = None) -> ToolCut | None:
+    """What a tool of *radius* (mm: a milling cutter's, or half a laser's kerf) running around
+    the outside of the outline of *geom* leaves under the follower, driven through *program*
+    (by default the design's); None where it follows the whole profile, leaving nowhere more
+    than *leave* (mm; by default ``manufacturing.tolerance``).
 
     It cannot follow a concave part of smaller radius, nor reach into a sharp hollow; what it
-    leaves there is measured (the outline closed by the cutter), and where it lies under the
-    follower's contact, the follower is run over the cam as milled.
-    """
-    radius = design.manufacturing.cutter_radius
-    if radius <= 0.0:
-        return None
+    leaves there is measured (the outline closed by the tool), and where it lies under the
+    follower's contact, the follower is run over the cam as made."""
     from camfab.curves.profile import Profile
     from camfab.geometry.disc_geometry import lift_check
     from camfab.geometry.offset import closing, on_outline, uncut_depth
@@ -268,7 +283,7 @@ def cutter_finding(design: Design, geom: DiscGeometry, numbers: CamNumbers,
     depth = uncut_depth(part, closed, dense.working.xy, 2.0 * tol)
     rw = dense.working.radius
     tight = (rw < 0) & ~geom.folds & (-rw < radius)
-    deep = depth > design.manufacturing.tolerance
+    deep = depth > (design.manufacturing.tolerance if leave is None else leave)
     # only where the profile is (the raw envelope's points the part has lost do not count)
     index = np.flatnonzero(tight | deep)
     on_part = np.zeros(len(rw), dtype=bool)
@@ -276,29 +291,65 @@ def cutter_finding(design: Design, geom: DiscGeometry, numbers: CamNumbers,
     tight &= on_part
     deep &= on_part
     spots = ranges_deg(dense.theta, tight | deep)
-    smallest = numbers.profile_min_concave
     if not spots:
+        return None
+    made = lift_check(geom.cam, program or design.program, Profile.from_points(closed))
+    return ToolCut(radius, closed, spots, float(depth.max()),
+                   float(np.min(-rw[tight])) if tight.any() else None, made)
+
+
+def cutter_finding(design: Design, geom: DiscGeometry, numbers: CamNumbers,
+                   program: MotionProgram | None = None) -> Finding | None:
+    """Can a milling cutter of ``cutter_radius`` (running outside the outline) make the profile?
+    (see :func:`tool_cut`)."""
+    radius = design.manufacturing.cutter_radius
+    if radius <= 0.0:
+        return None
+    return _tool_finding("cutter", f"a cutter of radius {fmt(radius)} mm", radius,
+                         tool_cut(design, geom, radius, program), numbers)
+
+
+def kerf_finding(design: Design, geom: DiscGeometry, numbers: CamNumbers,
+                 program: MotionProgram | None = None) -> Finding | None:
+    """Can a laser's beam, ``kerf`` wide (running outside the outline, its radius half the
+    kerf), cut the profile? A sharp hollow (a knife's velocity step makes one) or a concave
+    radius under the beam's is rounded to the beam's radius; the follower run over the cam as
+    cut says how far it moves off the design there (see :func:`tool_cut`)."""
+    kerf = design.manufacturing.kerf
+    if kerf <= 0.0:
+        return None
+    return _tool_finding("kerf", f"a beam of kerf {fmt(kerf)} mm (radius {fmt(kerf / 2.0)} mm)",
+                         kerf / 2.0, tool_cut(design, geom, kerf / 2.0, program), numbers,
+                         scale=2.0, what="kerf", made="cut")
+
+
+def _tool_finding(check: str, tool: str, radius: float, cut: ToolCut | None,
+                  numbers: CamNumbers, scale: float = 1.0, what: str = "cutter radius",
+                  made: str = "milled") -> Finding:
+    """The finding *check* of a *tool* of *radius* (mm) and what it leaves, *cut*: the tool's
+    size a profile needs is *scale* times its radius (a kerf is twice the beam's radius), and
+    *what* names it, *made* how the cam is made."""
+    smallest = numbers.profile_min_concave
+    if cut is None:
         shape = (f"smallest concave radius {fmt(smallest.value)} mm at "
                  f"{fmt(smallest.at_deg or 0.0)}°" if smallest.value is not None
                  else "the profile has no concave part")
-        return Finding("cutter", True, "error",
-                       f"a cutter of radius {fmt(radius)} mm follows the whole profile "
-                       f"({shape})", smallest.value, radius, "mm")
-    if tight.any():
-        value = float(np.min(-rw[tight]))
+        return Finding(check, True, "error", f"{tool} follows the whole profile ({shape})",
+                       smallest.value, radius, "mm")
+    if cut.tightest is not None:
+        value = cut.tightest
         cause = f"its concave radius falls to {fmt(value)} mm"
-        advice = f"a cutter radius below {fmt(value)} mm cuts it"
+        advice = f"a {what} below {fmt(scale * value)} mm cuts it"
     else:
         value = 0.0
         cause = "it has a sharp hollow (a velocity step of the motion makes one)"
         advice = "a motion law without a velocity step, or finishing the hollow by hand, cuts it"
-    milled = lift_check(geom.cam, program or design.program, Profile.from_points(closed))
     return Finding(
-        "cutter", False, "error",
-        f"a cutter of radius {fmt(radius)} mm cannot follow the profile at {where(spots)}: "
-        f"{cause}; it leaves up to {fmt(float(depth.max()))} mm of material there, and the cam "
-        f"as milled moves the follower up to {fmt(milled.max_mm)} mm off the design at "
-        f"{fmt(milled.at_deg)}°; {advice}", value, radius, "mm", spots)
+        check, False, "error",
+        f"{tool} cannot follow the profile at {where(cut.spots)}: {cause}; it leaves up to "
+        f"{fmt(cut.depth)} mm of material there, and the cam as {made} moves the follower up "
+        f"to {fmt(cut.made.max_mm)} mm off the design at {fmt(cut.made.at_deg)}°; {advice}",
+        value, radius, "mm", cut.spots)
 
 
 def bore_finding(design: Design, part: str | None) -> Finding | None:
@@ -324,5 +375,6 @@ def cam_findings(design: Design, geom: DiscGeometry, numbers: CamNumbers,
              undercut_finding(design, geom, numbers),
              curvature_finding(design, geom, numbers),
              face_width_finding(design, numbers),
-             cutter_finding(design, geom, numbers, program)]
+             cutter_finding(design, geom, numbers, program),
+             kerf_finding(design, geom, numbers, program)]
     return [f for f in found if f is not None]

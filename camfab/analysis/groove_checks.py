@@ -31,7 +31,7 @@ def with_groove(analysis: Analysis) -> tuple[GrooveWalls, list[Finding]]:
     assert geom is not None
     walls = groove_walls(analysis.design, geom)
     at = next((i for i, f in enumerate(analysis.findings) if f.id == "undercut"), 0)
-    findings = [f for f in analysis.findings if f.id not in ("undercut", "cutter")]
+    findings = [f for f in analysis.findings if f.id not in ("undercut", "cutter", "kerf")]
     found = [groove_finding(analysis, walls), cutter_finding(analysis, walls)]
     findings[at:at] = [f for f in found if f is not None]
     return walls, findings

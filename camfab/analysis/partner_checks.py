@@ -138,7 +138,7 @@ class Partner:
 
 
 #: Ids of the geometric checks run on each cam of a conjugate pair.
-PER_CAM_CHECKS = ("pressure_angle", "undercut", "curvature", "face_width", "cutter")
+PER_CAM_CHECKS = ("pressure_angle", "undercut", "curvature", "face_width", "cutter", "kerf")
 
 
 def _load_contact(analysis: Analysis) -> WallContact:

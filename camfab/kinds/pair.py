@@ -29,7 +29,7 @@ from camfab.geometry.conjugate import (
 )
 from camfab.geometry.disc_geometry import VERIFY_STEP, LiftCheck
 from camfab.kinds.disc import PlateResult, analyse_plate, no_checks
-from camfab.kinds.readback import against_cut, read_back, verify_plate
+from camfab.kinds.readback import BEAM_DEPARTS, against_cut, beam_cut, read_back, verify_plate
 from camfab.motion.program import cycle_angles
 
 if TYPE_CHECKING:
@@ -172,14 +172,16 @@ def _verify_pair(analysis: Analysis, part: Part, files: PartFiles) -> Verificati
     deviation = max(back_a.deviation, back_b.deviation)
     lift = LiftCheck(worse.theta, worse.error, worse.error_mm)
     cut_error = None
-    if geom_a.undercut or geom_b.undercut:  # each cam's files held to the cam as computed
-        tolerance = analysis.design.manufacturing.tolerance
-        cut_error = max((against_cut(back_a.lift, geom_a.lift, tolerance),
-                         against_cut(back_b.lift, geom_b.lift, tolerance)),
+    tolerance = analysis.design.manufacturing.tolerance
+    beams = (beam_cut(design, geom_a, analysis.program, kerf),
+             beam_cut(design, geom_b, program_b, kerf))
+    words = BEAM_DEPARTS if any(b is not None for b in beams) else {}
+    if geom_a.undercut or geom_b.undercut or words:  # each cam's files held to the cam made
+        cut_error = max((against_cut(back_a.lift, beams[0] or geom_a.lift, tolerance),
+                         against_cut(back_b.lift, beams[1] or geom_b.lift, tolerance)),
                         key=lambda c: c.max_mm)
     return Verification(lift, source, back_a.entities + back_b.entities, deviation, stl_check,
-                        exempt=geom_a.undercut or geom_b.undercut, hold=held,
-                        cut_error=cut_error)
+                        exempt=cut_error is not None, hold=held, cut_error=cut_error, **words)
 
 
 @dataclass(frozen=True)
