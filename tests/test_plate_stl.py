@@ -126,3 +126,16 @@ def test_the_build_reads_its_plate_stl_back_clean(tmp_path: Path, kind: str) -> 
     assert "the STL reads back closed, outward, no degenerate face, short edge or sliver" in (
         check["message"]), check["message"]
     assert check["ok"] is (None if kind == "groove" else True), check["message"]
+
+
+def test_a_region_a_ray_from_the_centre_meets_twice_is_extruded_as_before() -> None:
+    """A C-shaped outline whose opening holds the centre (a ray from it meets the outline
+    twice, or not at all): no fan or strip of it, and manifold3d's extrusion of it is closed
+    and of its shoelace volume."""
+    from camfab.export.plate_mesh import extruded_mesh
+
+    c_shape = np.array([[10.0, -10.0], [10.0, -6.0], [-6.0, -6.0], [-6.0, 6.0], [10.0, 6.0],
+                        [10.0, 10.0], [-10.0, 10.0], [-10.0, -10.0]])
+    assert extruded_mesh((c_shape,), 5.0, 1e-4) is None
+    stl = render_stl(Extrusion((c_shape,), 5.0))
+    assert_clean(stl.data, abs(shoelace(c_shape)) * 5.0)

@@ -7,8 +7,9 @@ of a micrometre of a line, so every ear is a needle thinner than an STL can hold
 two. A cam's outline (and its bore) is met once by every ray from the cam centre, so each cap is
 the fan from the centre to the outline's chords, or the strip between the outline and the bore
 zipped in order of their polar angles: each facet stands on a chord and reaches across the
-plate. Contours that are not so (an undercut corner folding back, a hole off the centre) are
-left to manifold3d (None).
+plate. Contours that are not so (an undercut corner folding back, a hole off the centre), or
+a strip with a facet that would be thin or folded (a keyway's side, nearly radial, between two
+outline points far apart at a coarse tolerance), are left to manifold3d (None).
 """
 
 from __future__ import annotations
@@ -30,7 +31,7 @@ def extruded_mesh(chains: tuple[Array, ...], height: float,
         return None
     rings = [_counter_clockwise(np.asarray(c, dtype=np.float64)) for c in chains]
     angles = [_polar_angles(ring) for ring in rings]
-    if any(a is None for a in angles):
+    if angles[0] is None or angles[-1] is None:
         return None
     outline = rings[0]
     n = len(outline)
@@ -42,9 +43,9 @@ def extruded_mesh(chains: tuple[Array, ...], height: float,
     else:
         hole = rings[1]
         plane = np.vstack((outline, hole))
-        cap = _zipped(angles[0], angles[1], n)  # type: ignore[arg-type]
+        cap = _zipped(angles[0], angles[1], n)
         walls = [(np.arange(n), False), (n + np.arange(len(hole)), True)]
-    if cap is None or not _thick(plane, cap, thinnest):
+    if not _thick(plane, cap, thinnest):
         return None
     count = len(plane)
     vertices = np.vstack((np.column_stack((plane, np.zeros(count))),
@@ -79,7 +80,7 @@ def _polar_angles(ring: Array) -> Array | None:
     return angle
 
 
-def _zipped(outer: Array, inner: Array, n: int) -> Index | None:
+def _zipped(outer: Array, inner: Array, n: int) -> Index:
     """The facets of the strip between a ring of *n* points at polar angles *outer* (indices
     0..n-1) and one inside it at angles *inner* (indices n..), counter-clockwise: each outer
     chord to the inner point before its end, each inner chord to the outer point at or before
