@@ -160,6 +160,28 @@ def binary_stl(solid: Any) -> bytes:
     return stl_bytes(triangles[kept], crosses[kept])
 
 
+def _extruded(solid: Extrusion) -> Any:
+    """The extrusion from z = 0 as a ``manifold3d.Manifold``: a plate's outline (and bore) with
+    caps of no needle facet (:mod:`camfab.export.plate_mesh`), other regions as manifold3d
+    extrudes their even-odd cross-section."""
+    import manifold3d
+
+    from camfab.export.mesh_quality import REPAIR_MARGIN, min_altitude
+    from camfab.export.plate_mesh import extruded_mesh
+
+    corners = np.vstack([np.column_stack((c, np.full(len(c), solid.height + (solid.z or 0.0))))
+                         for c in solid.chains])
+    mesh = extruded_mesh(solid.chains, solid.height, REPAIR_MARGIN * min_altitude(corners))
+    if mesh is not None:
+        made = manifold3d.Manifold(manifold3d.Mesh64(
+            vert_properties=np.ascontiguousarray(mesh[0]),
+            tri_verts=np.ascontiguousarray(mesh[1], dtype=np.uint64)))
+        if made.status() == manifold3d.Error.NoError:
+            return made
+    section = manifold3d.CrossSection(list(solid.chains), manifold3d.FillRule.EvenOdd)
+    return manifold3d.Manifold.extrude(section, solid.height)
+
+
 @dataclass(frozen=True)
 class StlFile:
     """A solid written as binary STL: its bytes, and the volume (mm³) and surface area (mm²)
@@ -193,8 +215,7 @@ def build(solid: Solid, held: list[Any]) -> Any:
 
     made: Any
     if isinstance(solid, Extrusion):
-        section = manifold3d.CrossSection(list(solid.chains), manifold3d.FillRule.EvenOdd)
-        made = manifold3d.Manifold.extrude(section, solid.height)
+        made = _extruded(solid)
         if solid.z is not None:
             made = made.translate((0.0, 0.0, solid.z))
     elif isinstance(solid, Cylinder):
