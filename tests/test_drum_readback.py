@@ -138,3 +138,89 @@ def test_a_velocity_step_is_a_corner_of_the_groove_and_a_design_finding(tmp_path
     assert corner["value"] == pytest.approx(_developed_play(roller, root, 0.0, rate) / 2,
                                             rel=0.01)
     assert [a for a, _ in corner["ranges_deg"]] == [0, 150, 180, 330]
+
+
+def _roller_gap(points: np.ndarray, r: float, roller: float, theta: np.ndarray,
+                s: np.ndarray) -> np.ndarray:
+    """The least signed distance (mm) of surface points at radius *r* (mm; (K, 2) polar angle
+    ϕ, rad, and height, mm) from the roller (radius *roller*, its axis the radial line at polar
+    angle −θ at height s) at each of the cam angles *theta* (rad) with lifts *s* (mm):
+    √(r² sin²(ϕ + θ) + (z − s)²) − R, negative inside the roller."""
+    out = np.full(len(points), np.inf)
+    for chunk in range(0, len(points), 2000):
+        p = points[chunk:chunk + 2000, None, :]
+        across = r * np.sin(p[..., 0] + theta[None, :])
+        gap = np.hypot(across, p[..., 1] - s[None, :]) - roller
+        out[chunk:chunk + 2000] = gap.min(axis=1)
+    return out
+
+
+def test_the_developed_groove_at_a_velocity_step_is_the_rollers_positions(
+        tmp_path: Path) -> None:
+    """Uniform velocity up, modified sine back (velocity steps at 0° and 125°): the groove
+    developed in the DXF was drawn through the walls at the stations alone, chorded straight
+    across the roller's turn on the outside of each step and folded over itself on the inside
+    (in inches, 48× the tolerance off the groove the tube has). Against the union of the
+    roller's positions at the drum's surface, found by brute force over cam angles 2e-4 rad apart
+    near each step: the file's walls lie on its boundary within the tolerance, and its boundary
+    within the tolerance of the file's contour, the seam at 0° included."""
+    import ezdxf
+    import shapely
+    import shapely.affinity
+
+    from camfab.pipeline import load_design
+
+    from .dxf_loops import loops
+
+    # the roller's centre at zero lift halfway down the 70 mm drum less the lift
+    tolerance, r, roller, start = 0.001, 50.0, 6.05, (70.0 - 25.0) / 2
+    law = [{"rise": {"angle": 125, "lift": 25, "law": "uniform-velocity"}},
+           {"return": {"angle": 105, "law": "modified-sine"}}, {"dwell": {"angle": 130}}]
+    check = demo_with(tmp_path, cam__rotation="ccw", motion=law,
+                      manufacturing={"tolerance": tolerance})
+    assert check["ok"], check["message"]
+    out = tmp_path / "out"
+    program = load_design(tmp_path / "design.yaml").program
+    band = loops(ezdxf.readfile(out / "demo-cylindrical.dxf"), "CUT", 1e-6)[0]
+    # the contour cut into points 0.01 mm apart; its lines across the groove at the seam left
+    width = 2 * math.pi * r
+    ends = np.roll(band, -1, axis=0)
+    count = np.maximum(1, np.ceil(np.hypot(*(ends - band).T) / 0.01)).astype(int)
+    f = np.concatenate([np.arange(c) / c for c in count])
+    piece = np.repeat(np.arange(len(band)), count)
+    points = band[piece] + f[:, None] * (ends - band)[piece]
+    # (from one wall's end to the other's, within a roller's radius of an end of the surface)
+    seam = (np.abs(band[piece, 1] - ends[piece, 1]) > roller) & np.all(
+        [(np.abs(x) < roller) | (np.abs(x - width) < roller)
+         for x in (band[piece, 0], ends[piece, 0])], axis=0)
+    points = points[~seam]
+    written = shapely.LinearRing(band)
+    reach = math.asin(roller / r)
+    spacing = 2e-4  # rad: the union's scallops between the rollers 1e-5 mm deep
+    j = np.arange(-int(3 * reach / spacing), int(3 * reach / spacing) + 1)
+    for step in (0.0, math.radians(125.0)):
+        theta = step + spacing * j
+        s = start + program.evaluate(np.mod(theta, 2 * math.pi))[0]
+        # the file's walls near the step: on the boundary of the union, neither in nor off it
+        phi = points[:, 0] / r - 2 * math.pi
+        near = np.abs(np.mod(phi + step + math.pi, 2 * math.pi) - math.pi) < 1.5 * reach
+        gap = _roller_gap(np.column_stack((phi[near], points[near, 1])), r, roller, theta, s)
+        assert near.sum() > 100
+        assert np.abs(gap).max() <= tolerance
+        # the union's boundary near the step: each roller's outline at the surface, points
+        # 0.02 mm apart, where no other roller covers it deeper than its sag between two of
+        # them (those far inside a roller found first among every tenth)
+        k = (np.abs(j) * spacing < 1.5 * reach) & (j % 40 == 0)  # the step's own among them
+        beta = np.linspace(0.0, 2 * math.pi, 1901)[:-1]
+        outline_phi = (-theta[k][:, None] + np.arcsin(roller * np.sin(beta) / r)).ravel()
+        outline_z = (s[k][:, None] + roller * np.cos(beta)).ravel()
+        outline = np.column_stack((outline_phi, outline_z))
+        edge = _roller_gap(outline, r, roller, theta[::10], s[::10]) > -tolerance
+        edge[edge] = _roller_gap(outline[edge], r, roller, theta, s) > -2e-5
+        # (the contour is cut open at the seam where its walls there end, either side of it)
+        found = shapely.points(np.column_stack((r * (outline_phi[edge] + 2 * math.pi),
+                                                outline_z[edge])))
+        off = np.min([shapely.distance(found, shapely.affinity.translate(written, shift))
+                      for shift in (-width, 0.0, width)], axis=0)
+        assert edge.sum() > 100
+        assert off.max() <= tolerance

@@ -305,20 +305,27 @@ class Development:
 
 
 def development(d: Drum, program: MotionProgram, tolerance: float) -> Development:
-    """The groove at the drum's surface, at the stations of :func:`stations`."""
-    theta = np.append(stations(d, program, tolerance), 2.0 * math.pi)
-    m = program.evaluate(theta)
-    m[:, -1] = program.evaluate(np.zeros(1))[:, 0]
-    walls = d.walls(theta, m[0], m[1], d.radius)
+    """The groove at the drum's surface, its walls at the stations of :func:`stations` with the
+    sections a velocity step adds and its creases (:func:`fanned`, :func:`creased`), as the
+    tube has them; the roller axis's track at the stations."""
+    placed = stations(d, program, tolerance)
+    theta, m, added = fanned(d, program, placed, tolerance)
+    # one turn later, the first section again: the walls close across the seam as they start
+    theta, added = np.append(theta, theta[0] + 2.0 * math.pi), np.append(added, added[0])
+    m = np.concatenate((m, m[:, :1]), axis=1)
+    walls = creased(d, program, theta, added, d.radius, d.walls(theta, m[0], m[1], d.radius))
     shift = 2.0 * math.pi if d.sigma > 0 else 0.0
 
     def unrolled(phi: Array, z: Array) -> Array:
         return np.stack((d.radius * (phi + shift), z), -1)
 
-    alpha = d.axis_angle(theta)
+    track = np.append(placed, 2.0 * math.pi)
+    s = program.evaluate(track)[0]
+    s[-1] = s[0]
     return Development(unrolled(walls.phi_lower, walls.z_lower),
                        unrolled(walls.phi_upper, walls.z_upper),
-                       unrolled(alpha, d.start + m[0]), 2.0 * math.pi * d.radius, d.length)
+                       unrolled(d.axis_angle(track), d.start + s), 2.0 * math.pi * d.radius,
+                       d.length)
 
 
 def _reach(d: Drum) -> float:

@@ -374,10 +374,10 @@ def _development_drawing(analysis: Analysis, band: Profile, centre: Profile,
 def drum_verify(analysis: Analysis, part: Part, files: PartFiles) -> Verification:
     """The roller run through the groove of the STL read back, between its wall rows (or, when
     the groove folds, between the exact walls, to show how far the fold would throw it); the
-    STL checked closed, outward and of the solid's volume; the developed walls of the DXF
-    measured against the exact ones."""
+    STL checked closed, outward and of the solid's volume; the groove developed in the DXF
+    measured against the groove as computed (the tube's walls at the surface, sampled anew
+    within :data:`~camfab.kinds.readback.REFERENCE_SHARE` of the tolerance), each way."""
     from camfab.arrays import edge_groups
-    from camfab.curves.sampling import SAMPLING_SHARE
     from camfab.export.dxf import read_cut_outline
     from camfab.geometry.disc_geometry import LiftCheck
     from camfab.geometry.drum_mesh import (
@@ -386,16 +386,20 @@ def drum_verify(analysis: Analysis, part: Part, files: PartFiles) -> Verificatio
         groove_lift,
         velocity_steps,
     )
-    from camfab.kinds.readback import against_cut, groove_mesh
+    from camfab.kinds.readback import (
+        REFERENCE_SHARE,
+        against_cut,
+        groove_mesh,
+        outline_deviation,
+    )
     from camfab.motion.program import cycle_angles
 
     design, dense = analysis.design, analysis.drum
     assert dense is not None
     d, program = dense.drum, analysis.program
-    tolerance = SAMPLING_SHARE * design.manufacturing.tolerance
+    tolerance = design.manufacturing.tolerance
     folded = _folded(analysis)
-    vertices, _, stl_check, edges = groove_mesh(part, files, design.manufacturing.tolerance,
-                                                folded)
+    vertices, _, stl_check, edges = groove_mesh(part, files, tolerance, folded)
     source = ("the exact walls (the groove folds: no STL)" if stl_check is None else
               f"the roller run through the groove of {design.name}.stl read back (between its "
               "wall rows)")
@@ -407,8 +411,9 @@ def drum_verify(analysis: Analysis, part: Part, files: PartFiles) -> Verificatio
     error = np.full(theta.size, np.inf)
     error[found] = 0.5 * (low[found] + high[found]) - centre_z[found]
     written = read_cut_outline(files.files["dxf"][f"{design.name}.dxf"], design.mm_per_unit)
-    exact = development(d, program, tolerance / 64.0)
-    deviation = float(written.distance(np.vstack((exact.lower, exact.upper))).max())
+    exact = development(d, program, REFERENCE_SHARE * tolerance)
+    deviation = outline_deviation(written, np.vstack((exact.lower, exact.upper[::-1])), 0.0,
+                                  tolerance)
     lift = LiftCheck(theta, error, error)
     if folded or not velocity_steps(program):
         return Verification(lift, source, len(written.vertices), deviation, stl_check,
@@ -423,7 +428,7 @@ def drum_verify(analysis: Analysis, part: Part, files: PartFiles) -> Verificatio
     computed = np.clip(0.5 * (low + high) - centre_z, -corner, corner)
     return Verification(lift, source, len(written.vertices), deviation, stl_check, exempt=True,
                         cut_error=against_cut(lift, LiftCheck(theta, computed, computed),
-                                              design.manufacturing.tolerance),
+                                              tolerance),
                         departs_because="the groove has a corner at each velocity step",
                         departs_check="corner", departs_cam="the groove",
                         departs_by="its corners leave it")
