@@ -35,6 +35,12 @@ if TYPE_CHECKING:
 #: Cam-angle step at which the roller is run through a drum's groove read back from the STL.
 DRUM_VERIFY_STEP = math.radians(0.5)
 
+#: The share of ``manufacturing.tolerance`` the groove developed at the surface is sampled to:
+#: its arcs hold the chords between those points within twice this
+#: (:data:`camfab.geometry.plate.ARC_FACTOR`), so within three times it of the groove as
+#: computed, the rest left to the reading back and the rounding of the files.
+DEVELOPED_SHARE = 0.25
+
 #: In the 3-D view, the roller's end stands this share of the groove's depth off its floor; its
 #: stem reaches this share of the drum's radius beyond it and is this share of the roller's
 #: diameter wide.
@@ -290,12 +296,13 @@ KIND = Drum()
 def drum_part(analysis: Analysis) -> Part:
     """The drum's part: the drum along Z from 0 to its length, the bore through and the groove
     subtracted once as one closed tube (withheld when the groove folds over itself); the groove
-    developed at the surface as a drawing and a view (see :func:`_development_drawing`)."""
+    developed at the surface as a drawing and a view (see :func:`_development_drawing`),
+    sampled within :data:`DEVELOPED_SHARE` of the tolerance."""
     from camfab.curves.sampling import SAMPLING_SHARE
     from camfab.export.part import Difference, Mesh, Part
     from camfab.geometry.arcfit import fit_arcs
     from camfab.geometry.drum_mesh import development, groove_tube, tube_surfaces
-    from camfab.geometry.plate import Contours
+    from camfab.geometry.plate import ARC_FACTOR, Contours, fit_chain
 
     design, dense = analysis.design, analysis.drum
     assert dense is not None
@@ -311,10 +318,12 @@ def drum_part(analysis: Analysis) -> Part:
         body = _body(d, tolerance)
         grids, probes = tube_surfaces(d, program, tube)
         solid = Difference(body, Mesh(tube.vertices, tube.faces, grids, probes), cut_first=True)
-    # the developed groove: the walls at the surface, closed across the seam
-    dev = development(d, program, tolerance)
-    band = fit_arcs(np.vstack((dev.lower, dev.upper[::-1])), tolerance)
-    centre = fit_arcs(dev.centre, tolerance, closed=False)
+    # the developed groove: the walls at the surface, closed across the seam, as arcs that
+    # hold the chords between its points
+    share = DEVELOPED_SHARE * design.manufacturing.tolerance
+    dev = development(d, program, share)
+    band = fit_chain(np.vstack((dev.lower, dev.upper[::-1])), share)
+    centre = fit_arcs(dev.centre, ARC_FACTOR * share, closed=False, chords=True)
     drawing = _development_drawing(analysis, band, centre, (dev.width, dev.height))
     return Part({design.name: drawing}, {design.name: (Contours((band,)), None)}, solid,
                 needs=("dxf", "stl"), withheld=withheld, made=tube)
