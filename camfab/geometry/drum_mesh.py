@@ -60,7 +60,32 @@ def _station_density(d: Drum, program: MotionProgram,
         step = np.sqrt(8.0 * tolerance / (rho + d.roller)) * rho / speed
     density = 1.0 / np.where(np.isfinite(step), np.minimum(step, MAX_STATION_STEP),
                              MAX_STATION_STEP)
-    return segment, theta, density
+    return segment, theta, _reaching(segment, theta, density)
+
+
+def _reaching(segment: Index, theta: Array, density: Array) -> Array:
+    """*density* (1/rad, on the segment grid *theta*, rad) raised, within each segment, to that
+    of every grid point whose own step (1/density) reaches it.
+
+    A chord's error bound ``(v·Δθ)²/(8ρ)`` holds for a curve of radius ρ all along the chord.
+    Where the curvature drops inside a segment (a law's blend ending in a straight stretch, an
+    acceleration step), a step spread evenly in the density's integral reaches from the curved
+    stretch far into the straight one, and the chord then strays from the curve up to four times
+    that bound (its curved part's offset from the tangent, κa²/2, not κa²/8). With each point's
+    density at least that of every point within its step, no chord is longer than the step the
+    sharpest curve it spans asks for, and its error stays within the bound."""
+    out = density.copy()
+    step = 1.0 / density
+    for k in range(1, theta.size):
+        same = segment[k:] == segment[:-k]
+        gap = theta[k:] - theta[:-k]
+        behind = same & (gap <= step[k:])  # the point k further on reaches back to this one
+        ahead = same & (gap <= step[:-k])  # this one reaches k points further on
+        if not (behind.any() or ahead.any()):  # nor does any point reach further
+            break
+        out[:-k] = np.maximum(out[:-k], np.where(behind, density[k:], 0.0))
+        out[k:] = np.maximum(out[k:], np.where(ahead, density[:-k], 0.0))
+    return out
 
 
 #: The fewest points round the tube's section: four wall rows on either wall (the fewest
