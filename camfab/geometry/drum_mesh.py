@@ -60,7 +60,32 @@ def _station_density(d: Drum, program: MotionProgram,
         step = np.sqrt(8.0 * tolerance / (rho + d.roller)) * rho / speed
     density = 1.0 / np.where(np.isfinite(step), np.minimum(step, MAX_STATION_STEP),
                              MAX_STATION_STEP)
-    return segment, theta, density
+    return segment, theta, _reaching(segment, theta, density)
+
+
+def _reaching(segment: Index, theta: Array, density: Array) -> Array:
+    """*density* (1/rad, on the segment grid *theta*, rad) raised, within each segment, to that
+    of every grid point whose own step (1/density) reaches it.
+
+    A chord's error bound ``(v·Δθ)²/(8ρ)`` holds for a curve of radius ρ all along the chord.
+    Where the curvature drops inside a segment (a law's blend ending in a straight stretch, an
+    acceleration step), a step spread evenly in the density's integral reaches from the curved
+    stretch far into the straight one, and the chord then strays from the curve up to four times
+    that bound (its curved part's offset from the tangent, κa²/2, not κa²/8). With each point's
+    density at least that of every point within its step, no chord is longer than the step the
+    sharpest curve it spans asks for, and its error stays within the bound."""
+    out = density.copy()
+    step = 1.0 / density
+    for k in range(1, theta.size):
+        same = segment[k:] == segment[:-k]
+        gap = theta[k:] - theta[:-k]
+        behind = same & (gap <= step[k:])  # the point k further on reaches back to this one
+        ahead = same & (gap <= step[:-k])  # this one reaches k points further on
+        if not (behind.any() or ahead.any()):  # nor does any point reach further
+            break
+        out[:-k] = np.maximum(out[:-k], np.where(behind, density[k:], 0.0))
+        out[k:] = np.maximum(out[k:], np.where(ahead, density[:-k], 0.0))
+    return out
 
 
 #: The fewest points round the tube's section: four wall rows on either wall (the fewest
@@ -305,20 +330,27 @@ class Development:
 
 
 def development(d: Drum, program: MotionProgram, tolerance: float) -> Development:
-    """The groove at the drum's surface, at the stations of :func:`stations`."""
-    theta = np.append(stations(d, program, tolerance), 2.0 * math.pi)
-    m = program.evaluate(theta)
-    m[:, -1] = program.evaluate(np.zeros(1))[:, 0]
-    walls = d.walls(theta, m[0], m[1], d.radius)
+    """The groove at the drum's surface, its walls at the stations of :func:`stations` with the
+    sections a velocity step adds and its creases (:func:`fanned`, :func:`creased`), as the
+    tube has them; the roller axis's track at the stations."""
+    placed = stations(d, program, tolerance)
+    theta, m, added = fanned(d, program, placed, tolerance)
+    # one turn later, the first section again: the walls close across the seam as they start
+    theta, added = np.append(theta, theta[0] + 2.0 * math.pi), np.append(added, added[0])
+    m = np.concatenate((m, m[:, :1]), axis=1)
+    walls = creased(d, program, theta, added, d.radius, d.walls(theta, m[0], m[1], d.radius))
     shift = 2.0 * math.pi if d.sigma > 0 else 0.0
 
     def unrolled(phi: Array, z: Array) -> Array:
         return np.stack((d.radius * (phi + shift), z), -1)
 
-    alpha = d.axis_angle(theta)
+    track = np.append(placed, 2.0 * math.pi)
+    s = program.evaluate(track)[0]
+    s[-1] = s[0]
     return Development(unrolled(walls.phi_lower, walls.z_lower),
                        unrolled(walls.phi_upper, walls.z_upper),
-                       unrolled(alpha, d.start + m[0]), 2.0 * math.pi * d.radius, d.length)
+                       unrolled(d.axis_angle(track), d.start + s), 2.0 * math.pi * d.radius,
+                       d.length)
 
 
 def _reach(d: Drum) -> float:

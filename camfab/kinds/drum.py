@@ -35,6 +35,12 @@ if TYPE_CHECKING:
 #: Cam-angle step at which the roller is run through a drum's groove read back from the STL.
 DRUM_VERIFY_STEP = math.radians(0.5)
 
+#: The share of ``manufacturing.tolerance`` the groove developed at the surface is sampled to:
+#: its arcs hold the chords between those points within twice this
+#: (:data:`camfab.geometry.plate.ARC_FACTOR`), so within three times it of the groove as
+#: computed, the rest left to the reading back and the rounding of the files.
+DEVELOPED_SHARE = 0.25
+
 #: In the 3-D view, the roller's end stands this share of the groove's depth off its floor; its
 #: stem reaches this share of the drum's radius beyond it and is this share of the roller's
 #: diameter wide.
@@ -290,12 +296,13 @@ KIND = Drum()
 def drum_part(analysis: Analysis) -> Part:
     """The drum's part: the drum along Z from 0 to its length, the bore through and the groove
     subtracted once as one closed tube (withheld when the groove folds over itself); the groove
-    developed at the surface as a drawing and a view (see :func:`_development_drawing`)."""
+    developed at the surface as a drawing and a view (see :func:`_development_drawing`),
+    sampled within :data:`DEVELOPED_SHARE` of the tolerance."""
     from camfab.curves.sampling import SAMPLING_SHARE
     from camfab.export.part import Difference, Mesh, Part
     from camfab.geometry.arcfit import fit_arcs
     from camfab.geometry.drum_mesh import development, groove_tube, tube_surfaces
-    from camfab.geometry.plate import Contours
+    from camfab.geometry.plate import ARC_FACTOR, Contours, fit_chain
 
     design, dense = analysis.design, analysis.drum
     assert dense is not None
@@ -311,10 +318,12 @@ def drum_part(analysis: Analysis) -> Part:
         body = _body(d, tolerance)
         grids, probes = tube_surfaces(d, program, tube)
         solid = Difference(body, Mesh(tube.vertices, tube.faces, grids, probes), cut_first=True)
-    # the developed groove: the walls at the surface, closed across the seam
-    dev = development(d, program, tolerance)
-    band = fit_arcs(np.vstack((dev.lower, dev.upper[::-1])), tolerance)
-    centre = fit_arcs(dev.centre, tolerance, closed=False)
+    # the developed groove: the walls at the surface, closed across the seam, as arcs that
+    # hold the chords between its points
+    share = DEVELOPED_SHARE * design.manufacturing.tolerance
+    dev = development(d, program, share)
+    band = fit_chain(np.vstack((dev.lower, dev.upper[::-1])), share)
+    centre = fit_arcs(dev.centre, ARC_FACTOR * share, closed=False, chords=True)
     drawing = _development_drawing(analysis, band, centre, (dev.width, dev.height))
     return Part({design.name: drawing}, {design.name: (Contours((band,)), None)}, solid,
                 needs=("dxf", "stl"), withheld=withheld, made=tube)
@@ -374,10 +383,10 @@ def _development_drawing(analysis: Analysis, band: Profile, centre: Profile,
 def drum_verify(analysis: Analysis, part: Part, files: PartFiles) -> Verification:
     """The roller run through the groove of the STL read back, between its wall rows (or, when
     the groove folds, between the exact walls, to show how far the fold would throw it); the
-    STL checked closed, outward and of the solid's volume; the developed walls of the DXF
-    measured against the exact ones."""
+    STL checked closed, outward and of the solid's volume; the groove developed in the DXF
+    measured against the groove as computed (the tube's walls at the surface, sampled anew
+    within :data:`~camfab.kinds.readback.REFERENCE_SHARE` of the tolerance), each way."""
     from camfab.arrays import edge_groups
-    from camfab.curves.sampling import SAMPLING_SHARE
     from camfab.export.dxf import read_cut_outline
     from camfab.geometry.disc_geometry import LiftCheck
     from camfab.geometry.drum_mesh import (
@@ -386,16 +395,20 @@ def drum_verify(analysis: Analysis, part: Part, files: PartFiles) -> Verificatio
         groove_lift,
         velocity_steps,
     )
-    from camfab.kinds.readback import against_cut, groove_mesh
+    from camfab.kinds.readback import (
+        REFERENCE_SHARE,
+        against_cut,
+        groove_mesh,
+        outline_deviation,
+    )
     from camfab.motion.program import cycle_angles
 
     design, dense = analysis.design, analysis.drum
     assert dense is not None
     d, program = dense.drum, analysis.program
-    tolerance = SAMPLING_SHARE * design.manufacturing.tolerance
+    tolerance = design.manufacturing.tolerance
     folded = _folded(analysis)
-    vertices, _, stl_check, edges = groove_mesh(part, files, design.manufacturing.tolerance,
-                                                folded)
+    vertices, _, stl_check, edges = groove_mesh(part, files, tolerance, folded)
     source = ("the exact walls (the groove folds: no STL)" if stl_check is None else
               f"the roller run through the groove of {design.name}.stl read back (between its "
               "wall rows)")
@@ -407,8 +420,9 @@ def drum_verify(analysis: Analysis, part: Part, files: PartFiles) -> Verificatio
     error = np.full(theta.size, np.inf)
     error[found] = 0.5 * (low[found] + high[found]) - centre_z[found]
     written = read_cut_outline(files.files["dxf"][f"{design.name}.dxf"], design.mm_per_unit)
-    exact = development(d, program, tolerance / 64.0)
-    deviation = float(written.distance(np.vstack((exact.lower, exact.upper))).max())
+    exact = development(d, program, REFERENCE_SHARE * tolerance)
+    deviation = outline_deviation(written, np.vstack((exact.lower, exact.upper[::-1])), 0.0,
+                                  tolerance)
     lift = LiftCheck(theta, error, error)
     if folded or not velocity_steps(program):
         return Verification(lift, source, len(written.vertices), deviation, stl_check,
@@ -423,7 +437,7 @@ def drum_verify(analysis: Analysis, part: Part, files: PartFiles) -> Verificatio
     computed = np.clip(0.5 * (low + high) - centre_z, -corner, corner)
     return Verification(lift, source, len(written.vertices), deviation, stl_check, exempt=True,
                         cut_error=against_cut(lift, LiftCheck(theta, computed, computed),
-                                              design.manufacturing.tolerance),
+                                              tolerance),
                         departs_because="the groove has a corner at each velocity step",
                         departs_check="corner", departs_cam="the groove",
                         departs_by="its corners leave it")
