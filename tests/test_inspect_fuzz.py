@@ -237,7 +237,8 @@ def _mutated(rng: random.Random, data: bytes) -> bytes:
     lines = data.split(b"\n")
     if choice < 0.87:
         for _ in range(rng.randint(1, 5)):
-            del lines[rng.randrange(len(lines))]
+            if lines:
+                del lines[rng.randrange(len(lines))]
         return b"\n".join(lines)
     if choice < 0.94:
         for _ in range(rng.randint(1, 5)):

@@ -199,6 +199,9 @@ NEWTON = 6
 #: coarse grid take many).
 MOST_SAMPLES = 4096
 CHUNK = 1_000_000
+#: A step's ringing is spent where its amplitude in force, 2|κ||C|, is within this share of the
+#: forces at its ends (plus 1 N): the least is then the forcing's cubic's, found exactly.
+RINGING_SPENT = 1e-12
 
 
 def least_force(train: Train, omega: Array | float, theta: Array, force: Array, rate: Array,
@@ -259,6 +262,24 @@ def least_force(train: Train, omega: Array | float, theta: Array, force: Array, 
                              (p0, p1, p2, p3)], h) - 2.0 * abs(kappa) * np.abs(c)
     bound = np.where(np.isnan(ring), dip, np.maximum(dip, ring))
     pick = inside & (bound < threshold[:, None]) & np.isfinite(h)
+    # a step whose ringing is spent (its force within RINGING_SPENT of the forcing's cubic, as
+    # with a train far faster than the cam) has the cubic's least: no sampling
+    spent = pick & (2.0 * abs(kappa) * np.abs(c)
+                    <= RINGING_SPENT * (1.0 + np.abs(grid[:, :-1]) + np.abs(grid[:, 1:])))
+    if spent.any():
+        rows_s, steps_s = np.nonzero(spent)
+        with np.errstate(all="ignore"):
+            cubic, tau_s = _cubic_least_at([-2.0 * (kappa * coefficient[rows_s, steps_s]).real
+                                            for coefficient in (p0, p1, p2, p3)],
+                                           h[rows_s, steps_s])
+        order = np.lexsort((cubic, rows_s))
+        first = np.concatenate(([True], rows_s[order][1:] != rows_s[order][:-1]))
+        rows_c, found_c = rows_s[order][first], cubic[order][first]
+        at_c = (theta[steps_s] + tau_s / q[rows_s, 0])[order][first]
+        better = found_c < best[rows_c]
+        best[rows_c[better]] = found_c[better]
+        where[rows_c[better]] = at_c[better]
+        pick &= ~spent
     rows_all, steps_all = np.nonzero(pick)
     longest = float(np.max(h[pick], initial=0.0))
     count = min(max(1, math.ceil(longest / SUB_STEP)), MOST_SAMPLES)
@@ -299,19 +320,28 @@ def least_force(train: Train, omega: Array | float, theta: Array, force: Array, 
 def _cubic_least(r: list[Array], h: Array) -> Array:
     """The least of the real cubic Σ rⱼτʲ over [0, *h*] (at the ends or where its derivative
     3r₃τ² + 2r₂τ + r₁ vanishes inside), less a rounding's worth of its coefficients."""
+    return _cubic_least_at(r, h)[0]
+
+
+def _cubic_least_at(r: list[Array], h: Array) -> tuple[Array, Array]:
+    """:func:`_cubic_least` and the τ in [0, *h*] where the cubic takes its least."""
     r0, r1, r2, r3 = r
 
     def value(t: Array) -> Array:
         return r0 + t * (r1 + t * (r2 + t * r3))
 
-    least = np.minimum(value(np.zeros_like(h)), value(h))
+    at = np.where(value(h) < value(np.zeros_like(h)), h, 0.0)
+    least = value(at)
     disc = np.sqrt(np.maximum(r2 * r2 - 3.0 * r3 * r1, 0.0))
     big = -(r2 + np.where(r2 >= 0.0, disc, -disc))  # the root's larger part, without cancelling
     for root in (big / (3.0 * r3), r1 / big):
         inside = np.isfinite(root) & (root > 0.0) & (root < h)
-        least = np.where(inside, np.minimum(least, value(np.where(inside, root, 0.0))), least)
+        there = value(np.where(inside, root, 0.0))
+        lower = inside & (there < least)
+        least = np.where(lower, there, least)
+        at = np.where(lower, root, at)
     scale = np.abs(r0) + h * (np.abs(r1) + h * (np.abs(r2) + h * np.abs(r3)))
-    return least - 1e-12 * scale
+    return least - 1e-12 * scale, at
 
 
 def contact_force(train: Train, omega: Array | float, error: Array,

@@ -181,16 +181,30 @@ def build_up(train: Train, omega: float) -> float:
     return math.inf if gap == 0.0 else 1.0 / gap
 
 
+#: Below this natural frequency over the cam's turning frequency, a train whose ringing adds up
+#: over more than :data:`BUILD_UP_LIMIT` turns is not at a resonance but far too soft: its
+#: first resonance lies at the cam's own frequency.
+SLOW_TRAIN_RATIO = 0.5
+
+
 def resonance_note(design: Design, train: Train) -> str | None:
     """Why the periodic state of the *train* at the design's speed is not computed (its
     ringing adds up over more than :data:`BUILD_UP_LIMIT` turns: a resonance with next to no
-    damping), in words with what to change; None where it is."""
+    damping, or a train far slower than the cam), in words with what to change; None where it
+    is."""
     omega = design.cam.omega
     assert omega is not None
     turns = build_up(train, omega)
     if turns <= BUILD_UP_LIMIT:
         return None
     ratio = train.natural / omega
+    if ratio < SLOW_TRAIN_RATIO:
+        return (f"the follower train's natural frequency is only {ratio:.3g} times the cam's "
+                f"turning frequency at {design.cam.speed_rpm:.6g} rpm: far too soft to follow "
+                f"the cam (its ringing adds up over some {min(turns, 1e300):.2g} turns), so its "
+                "vibration, forces and stress have no value camfab can give (a train that far "
+                "from rigid is no cam follower); raise follower.stiffness, or lower "
+                "follower.mass or cam.speed_rpm")
     return (f"the follower train resonates with the cam at {design.cam.speed_rpm:.6g} rpm: its "
             f"natural frequency is {ratio:.6g} times the cam's turning frequency and its "
             f"damping ratio {train.total_zeta:.3g} lets its ringing add up over some "

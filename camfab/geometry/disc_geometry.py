@@ -277,9 +277,13 @@ def exact_crossings(cam: DiscCam, program: MotionProgram, working: Sampled,
         w = curve.xy.reshape(-1, 2, 2)
         dw = (curve.tangent * curve.speed[:, None]).reshape(-1, 2, 2)
         gap = w[:, 0] - w[:, 1]
-        jacobian = np.stack((dw[:, 0], -dw[:, 1]), axis=-1)  # (K, 2, 2): columns d/dθa, d/dθb
+        # the 2 × 2 system [dW(θa), −dW(θb)] · step = gap by Cramer's rule, which (unlike a
+        # batched solve) leaves a singular one (parallel tangents) to itself: no step there
+        a, b, c, d = dw[:, 0, 0], -dw[:, 1, 0], dw[:, 0, 1], -dw[:, 1, 1]
         with np.errstate(divide="ignore", invalid="ignore"):
-            step = np.linalg.solve(jacobian, gap[..., None])[..., 0]
+            det = a * d - b * c
+            step = np.stack(((d * gap[:, 0] - b * gap[:, 1]) / det,
+                             (a * gap[:, 1] - c * gap[:, 0]) / det), axis=-1)
         t = t - np.where(np.isfinite(step), step, 0.0)
     found = cam.working(t.ravel(), program.evaluate(t.ravel())).xy.reshape(-1, 2, 2)
     slack = 1e-9 * np.maximum(width, 1e-12)
