@@ -157,6 +157,23 @@ def test_cli_step_writes_the_file(tmp_path: Path) -> None:
     assert (tmp_path / "out" / "seed-10-4.step").is_file()
 
 
+def test_a_drum_with_a_velocity_step_withholds_its_step_and_says_so(tmp_path: Path) -> None:
+    """A cornered groove (uniform velocity) has no smooth surfaces to fit: the STEP is not
+    written, for the corner, and the verification (of the files written) still passes."""
+    import json
+
+    text = (DESIGNS / "demo-cylindrical.yaml").read_text().replace(
+        "law: cycloidal", "law: uniform-velocity")
+    (tmp_path / "corner.yaml").write_text(text)
+    result = run_cli("build", "--step", "corner.yaml", "-o", "out", cwd=tmp_path)
+    assert result.exit_code == 1, result.output  # the corner and the velocity step
+    assert "not produced: step (the groove has a corner at each velocity step" in result.output
+    assert not (tmp_path / "out" / "demo-cylindrical.step").exists()
+    report = json.loads((tmp_path / "out" / "demo-cylindrical-report.json").read_text())
+    failed = {c["id"] for c in report["checks"] if c["ok"] is False}
+    assert failed == {"corner", "continuity"}
+
+
 def test_a_step_that_reads_back_wrong_is_not_written_and_the_report_says_why(
         tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     import json

@@ -301,7 +301,12 @@ def drum_part(analysis: Analysis) -> Part:
     from camfab.curves.sampling import SAMPLING_SHARE
     from camfab.export.part import Difference, Mesh, Part
     from camfab.geometry.arcfit import fit_arcs
-    from camfab.geometry.drum_mesh import development, groove_tube, tube_surfaces
+    from camfab.geometry.drum_mesh import (
+        development,
+        groove_tube,
+        tube_surfaces,
+        velocity_steps,
+    )
     from camfab.geometry.plate import ARC_FACTOR, Contours, fit_chain
 
     design, dense = analysis.design, analysis.drum
@@ -316,8 +321,14 @@ def drum_part(analysis: Analysis) -> Part:
                            "solid a roller could run in")
     else:
         body = _body(d, tolerance)
-        grids, probes = tube_surfaces(d, program, tube)
-        solid = Difference(body, Mesh(tube.vertices, tube.faces, grids, probes), cut_first=True)
+        if velocity_steps(program):
+            withheld["step"] = ("the groove has a corner at each velocity step (see the corner "
+                                "check), and camfab's exact solids are of smooth grooves: the "
+                                "STL holds the roller's positions there")
+            cut = Mesh(tube.vertices, tube.faces)
+        else:
+            cut = Mesh(tube.vertices, tube.faces, *tube_surfaces(d, program, tube))
+        solid = Difference(body, cut, cut_first=True)
     # the developed groove: the walls at the surface, closed across the seam, as arcs that
     # hold the chords between its points
     share = DEVELOPED_SHARE * design.manufacturing.tolerance
