@@ -421,6 +421,50 @@ def test_openscad_extrudes_the_cut_layer_and_admesh_finds_nothing_to_repair(
         assert int(found.group(2) or found.group(1)) == (1 if label == "Number of parts" else 0)
 
 
+KNIFE_STEP = """\
+name: beam
+cam: {type: linear, stroke: 200, base_height: 25, thickness: 6}
+follower: {type: knife}
+motion:
+  - rise:   {travel: RISE, lift: 15, law: uniform-velocity}
+  - dwell:  {travel: 30}
+  - return: {travel: 70, law: modified-sine}
+  - dwell:  {travel: REST}
+manufacturing: {tolerance: 0.002, kerf: 0.4}
+"""
+
+
+@pytest.mark.parametrize("rise", [70, 20])
+def test_a_beam_rounds_a_knifes_sharp_hollow_and_the_files_hold_the_plate_as_cut(
+        rise: int) -> None:
+    """The foot of a uniform-velocity rise is a sharp hollow of the plate's edge; a beam of
+    radius r = kerf/2 rounds it with a fillet tangent to the dwell's line and the ramp, whose
+    height above the corner (where the knife stands) is r − √(r² − t²), t = r / tan(β/2), β the
+    hollow's included angle (180° less the ramp's slope angle). A gentle ramp leaves the knife
+    within the tolerance (the check passes), a steep one does not (it fails, saying by how
+    much); the CUT contour read back is held to the beam's exact path either way, and the
+    verification to the plate as the beam cuts it."""
+    text = KNIFE_STEP.replace("RISE", str(rise)).replace("REST", str(100 - rise))
+    analysis = render(analyse(design_from_text(text))).analysis
+    assert analysis is not None
+    r, slope = 0.2, 15.0 / rise
+    half = (math.pi - math.atan(slope)) / 2.0
+    t = r / math.tan(half)
+    sits = r - math.sqrt(r * r - t * t)
+    kerf = next(f for f in analysis.findings if f.id == "kerf")
+    verification = next(f for f in analysis.findings if f.id == "verification")
+    assert verification.ok, verification.message
+    assert analysis.verification is not None
+    assert analysis.verification.deviation_mm is not None
+    assert analysis.verification.deviation_mm < 0.002
+    if sits < 0.002:
+        assert kerf.ok, kerf.message
+    else:
+        assert not kerf.ok and "sharp hollow" in kerf.message
+        off = float(re.search(r"moves the follower up to ([0-9.e-]+) mm", kerf.message)[1])
+        assert off == pytest.approx(sits, abs=0.1 * 0.002)
+
+
 def test_velocity_steps_give_a_knife_plate_with_sharp_hollows_a_cutter_cannot_reach() -> None:
     text = (GOOD.replace("type: roller\n  roller_radius: 8", "type: knife")
             .replace("law: cycloidal", "law: uniform-velocity")

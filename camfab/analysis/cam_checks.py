@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -18,6 +18,11 @@ from camfab.arrays import Array, Index, Mask
 from camfab.design import Design
 from camfab.geometry.disc_geometry import DiscGeometry, LiftCheck
 from camfab.motion.program import MotionProgram
+
+if TYPE_CHECKING:
+    from collections.abc import Callable
+
+    from camfab.geometry.linear import LinearGeometry
 
 
 @dataclass(frozen=True)
@@ -263,22 +268,38 @@ class ToolCut:
     made: LiftCheck
 
 
-def tool_cut(design: Design, geom: DiscGeometry, radius: float,
+def fine_outline(geom: DiscGeometry | LinearGeometry) -> Array:
+    """The plate's outline of *geom* as a closed chain of points (mm), its arcs cut into chords
+    within a quarter of its sampling tolerance (a sampled profile's own points)."""
+    if isinstance(geom, DiscGeometry) and not geom.exact:
+        return geom.profile.vertices
+    outline = geom.profile if isinstance(geom, DiscGeometry) else geom.outline
+    return outline.points(0.25 * geom.tolerance)
+
+
+def tool_cut(design: Design, geom: DiscGeometry | LinearGeometry, radius: float,
              program: MotionProgram | None = None, leave: float | None = None) -> ToolCut | None:
     """What a tool of *radius* (mm: a milling cutter's, or half a laser's kerf) running around
-    the outside of the outline of *geom* leaves under the follower, driven through *program*
-    (by default the design's); None where it follows the whole profile, leaving nowhere more
-    than *leave* (mm; by default ``manufacturing.tolerance``).
+    the outside of the outline of *geom* (a disc's or a linear cam's plate) leaves under the
+    follower, driven through *program* (by default the design's); None where it follows the
+    whole profile, leaving nowhere more than *leave* (mm; by default
+    ``manufacturing.tolerance``).
 
     It cannot follow a concave part of smaller radius, nor reach into a sharp hollow; what it
     leaves there is measured (the outline closed by the tool), and where it lies under the
     follower's contact, the follower is run over the cam as made."""
     from camfab.curves.profile import Profile
-    from camfab.geometry.disc_geometry import lift_check
     from camfab.geometry.offset import closing, on_outline, uncut_depth
 
+    if isinstance(geom, DiscGeometry):
+        from camfab.geometry.disc_geometry import lift_check
+    else:
+        from camfab.geometry.linear import lift_check
+
     dense, tol = geom.dense, geom.tolerance
-    part = geom.outline_points()
+    # the outline's arcs in chords finer than it was sampled: the follower run over the cam
+    # as made then differs from the run over the outline only where the tool changes it
+    part = fine_outline(geom)
     closed = closing(part, radius, 0.25 * tol)
     depth = uncut_depth(part, closed, dense.working.xy, 2.0 * tol)
     rw = dense.working.radius
@@ -293,7 +314,8 @@ def tool_cut(design: Design, geom: DiscGeometry, radius: float,
     spots = ranges_deg(dense.theta, tight | deep)
     if not spots:
         return None
-    made = lift_check(geom.cam, program or design.program, Profile.from_points(closed))
+    made = lift_check(geom.cam, program or design.program,  # type: ignore[arg-type]
+                      Profile.from_points(closed))
     return ToolCut(radius, closed, spots, float(depth.max()),
                    float(np.min(-rw[tight])) if tight.any() else None, made)
 
@@ -305,7 +327,7 @@ def cutter_finding(design: Design, geom: DiscGeometry, numbers: CamNumbers,
     radius = design.manufacturing.cutter_radius
     if radius <= 0.0:
         return None
-    return _tool_finding("cutter", f"a cutter of radius {fmt(radius)} mm", radius,
+    return tool_finding("cutter", f"a cutter of radius {fmt(radius)} mm", radius,
                          tool_cut(design, geom, radius, program), numbers)
 
 
@@ -318,21 +340,25 @@ def kerf_finding(design: Design, geom: DiscGeometry, numbers: CamNumbers,
     kerf = design.manufacturing.kerf
     if kerf <= 0.0:
         return None
-    return _tool_finding("kerf", f"a beam of kerf {fmt(kerf)} mm (radius {fmt(kerf / 2.0)} mm)",
+    return tool_finding("kerf", f"a beam of kerf {fmt(kerf)} mm (radius {fmt(kerf / 2.0)} mm)",
                          kerf / 2.0, tool_cut(design, geom, kerf / 2.0, program), numbers,
                          scale=2.0, what="kerf", made="cut")
 
 
-def _tool_finding(check: str, tool: str, radius: float, cut: ToolCut | None,
-                  numbers: CamNumbers, scale: float = 1.0, what: str = "cutter radius",
-                  made: str = "milled") -> Finding:
+def tool_finding(check: str, tool: str, radius: float, cut: ToolCut | None,
+                 numbers: CurveNumbers, scale: float = 1.0, what: str = "cutter radius",
+                 made: str = "milled", spots: Callable[[tuple[Range, ...]], str] | None = None,
+                 at: Callable[[float], str] | None = None) -> Finding:
     """The finding *check* of a *tool* of *radius* (mm) and what it leaves, *cut*: the tool's
     size a profile needs is *scale* times its radius (a kerf is twice the beam's radius), and
-    *what* names it, *made* how the cam is made."""
+    *what* names it, *made* how the cam is made; *spots* and *at* word the cam angles (deg)
+    where it fails and one cam angle (by default as degrees)."""
+    spots = spots or where
+    at = at or (lambda deg: f"{fmt(deg)}°")
     smallest = numbers.profile_min_concave
     if cut is None:
         shape = (f"smallest concave radius {fmt(smallest.value)} mm at "
-                 f"{fmt(smallest.at_deg or 0.0)}°" if smallest.value is not None
+                 f"{at(smallest.at_deg or 0.0)}" if smallest.value is not None
                  else "the profile has no concave part")
         return Finding(check, True, "error", f"{tool} follows the whole profile ({shape})",
                        smallest.value, radius, "mm")
@@ -346,9 +372,9 @@ def _tool_finding(check: str, tool: str, radius: float, cut: ToolCut | None,
         advice = "a motion law without a velocity step, or finishing the hollow by hand, cuts it"
     return Finding(
         check, False, "error",
-        f"{tool} cannot follow the profile at {where(cut.spots)}: {cause}; it leaves up to "
+        f"{tool} cannot follow the profile at {spots(cut.spots)}: {cause}; it leaves up to "
         f"{fmt(cut.depth)} mm of material there, and the cam as {made} moves the follower up "
-        f"to {fmt(cut.made.max_mm)} mm off the design at {fmt(cut.made.at_deg)}°; {advice}",
+        f"to {fmt(cut.made.max_mm)} mm off the design at {at(cut.made.at_deg)}; {advice}",
         value, radius, "mm", cut.spots)
 
 

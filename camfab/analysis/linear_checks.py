@@ -1,5 +1,5 @@
 """Checks of a linear cam's geometry: pressure angle, undercut, curvature margin, a milling
-cutter's reach; its key numbers and the report's geometry section.
+cutter's reach, a laser beam's; its key numbers and the report's geometry section.
 
 Ranges are degrees of the cycle angle θ = 360°·x/stroke (a stroke is one cycle), as for every
 other cam; the messages also give them as travel in millimetres. Lengths are millimetres and
@@ -195,13 +195,33 @@ def cutter_finding(design: Design, geom: LinearGeometry,
                    where_)
 
 
+def kerf_finding(design: Design, geom: LinearGeometry,
+                 numbers: LinearNumbers) -> Finding | None:
+    """Can a laser's beam, ``kerf`` wide (running outside the plate, its radius half the kerf),
+    cut the plate's edge? A sharp hollow (a knife's velocity step makes one) or a concave radius
+    under the beam's is rounded to the beam's radius; the follower run over the plate as cut
+    says how far it moves off the design there (see
+    :func:`camfab.analysis.cam_checks.tool_cut`)."""
+    from camfab.analysis.cam_checks import tool_cut, tool_finding
+
+    kerf = design.manufacturing.kerf
+    if kerf <= 0.0:
+        return None
+    stroke = geom.cam.stroke
+    return tool_finding("kerf", f"a beam of kerf {fmt(kerf)} mm (radius {fmt(kerf / 2.0)} mm)",
+                        kerf / 2.0, tool_cut(design, geom, kerf / 2.0), numbers, scale=2.0,
+                        what="kerf", made="cut", spots=lambda r: where_travel(stroke, r),
+                        at=lambda deg: _at(stroke, deg))
+
+
 def linear_findings(design: Design, geom: LinearGeometry,
                     numbers: LinearNumbers) -> list[Finding]:
     """Every geometric check of a linear cam."""
     found = [pressure_angle_finding(design, geom, numbers),
              undercut_finding(design, geom, numbers),
              curvature_finding(design, geom, numbers),
-             cutter_finding(design, geom, numbers)]
+             cutter_finding(design, geom, numbers),
+             kerf_finding(design, geom, numbers)]
     return [f for f in found if f is not None]
 
 

@@ -29,6 +29,7 @@ if TYPE_CHECKING:
     from camfab.export.part import Part
     from camfab.export.serialise import PartFiles
     from camfab.geometry.disc_geometry import DiscGeometry
+    from camfab.geometry.linear import LinearGeometry
     from camfab.geometry.plate import Contours, Plate
     from camfab.motion.program import MotionProgram
 
@@ -47,13 +48,15 @@ def against_cut(written: LiftCheck, cut: LiftCheck, tolerance: float) -> LiftChe
                      written.error_mm - np.where(departs, cut.error_mm, 0.0))
 
 
-def beam_cut(design: Design, geom: DiscGeometry, program: MotionProgram,
+def beam_cut(design: Design, geom: DiscGeometry | LinearGeometry, program: MotionProgram,
              kerf: float) -> LiftCheck | None:
     """The follower's lift over the cam as a laser's beam *kerf* wide (mm) cuts it: the cam
     computed with its hollows narrower than the beam filled (a knife's velocity step makes a
     sharp one), which no file can cut sharper; None without a kerf, or where the beam leaves
     nowhere under the follower more than the sampling share of the tolerance (the ``kerf``
-    check says what it leaves)."""
+    check says what it leaves). Its error is the beam's, the run over the filled outline less
+    the run over the outline itself (whose fit to the exact curve the read-back is not held
+    to), added to the outline's own where that departs from the design (an undercut's trim)."""
     if kerf <= 0.0:
         return None
     from camfab.analysis.cam_checks import tool_cut
@@ -61,7 +64,12 @@ def beam_cut(design: Design, geom: DiscGeometry, program: MotionProgram,
 
     cut = tool_cut(design, geom, kerf / 2.0, program,
                    leave=SAMPLING_SHARE * design.manufacturing.tolerance)
-    return None if cut is None else cut.made
+    if cut is None:
+        return None
+    made, own = cut.made, geom.lift
+    departs = np.abs(own.error_mm) > SAMPLING_SHARE * design.manufacturing.tolerance
+    return LiftCheck(made.theta, made.error - np.where(departs, 0.0, own.error),
+                     made.error_mm - np.where(departs, 0.0, own.error_mm))
 
 
 #: The words of a verification that holds a plate's files to the cam as a beam cuts it.
