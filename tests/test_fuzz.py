@@ -266,6 +266,13 @@ REGRESSIONS = [
     ("huge-cam-fine-tolerance", variant("designs/demo-conjugate.yaml", cam__base_radius=30_000,
                                         follower__roller_spacing=100_000), 2,
      "manufacturing.tolerance: must be at least"),
+    # drum_mesh.py: a drum of 72 velocity steps sought each step's crease at 33 radii one at a
+    # time, 128 × 128 pieces of track each (11 s)
+    ("drum-72-velocity-steps",
+     "name: d\ncam: {type: cylindrical, radius: 50, length: 70, groove_depth: 8}\n"
+     "follower: {type: roller, roller_radius: 6}\nmotion:\n"
+     + "  - rise: {angle: 5, lift: 1, law: uniform-velocity}\n"
+       "  - return: {angle: 5, law: uniform-velocity}\n" * 36, 1, ""),
 ]
 
 

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from camfab.analysis.cam_checks import fmt, where
-from camfab.analysis.findings import Finding
+from camfab.analysis.findings import Finding, listed
 from camfab.analysis.sizing import SEARCH_FACTOR, Grid, LimitValue, SizeProblem, passes
 from camfab.angles import Extreme, extreme, ranges_deg
 from camfab.design import Design
@@ -116,7 +116,7 @@ def corner_finding(design: Design, dense: DrumDense) -> Finding | None:
     off = [(math.degrees(angle), play / 2.0) for angle, play in plays]
     worst_at, worst = max(off, key=lambda item: item[1])
     over = tuple((a, a) for a, half in off if half > tolerance)
-    said = (f"at the velocity steps ({', '.join(f'{fmt(a)}°' for a, _ in off)}) the groove has "
+    said = (f"at the velocity steps ({listed([f'{fmt(a)}°' for a, _ in off])}) the groove has "
             f"a corner on the inside of the bend that the roller cannot fill: the exact groove "
             f"lets it move up to {fmt(2.0 * worst)} mm there, and the middle of its room lies "
             f"{fmt(worst)} mm off the design at {fmt(worst_at)}°")

@@ -105,8 +105,8 @@ def tube_facets(d: Drum, program: MotionProgram, tolerance: float, most: int) ->
         return lower
     placed, m, added = fanned(d, program, spread(segment, theta, density, count), tolerance)
     radii = _rows(d, placed, m, tolerance)
-    floor = creased(d, program, placed, added, float(radii[0]),
-                    d.walls(placed, m[0], m[1], radii[0]))
+    floor = creased(d, program, placed, added, radii[:1],
+                    [d.walls(placed, m[0], m[1], radii[0])])[0]
     return 2 * placed.size * (2 * radii.size + _across(d, floor, tolerance) - 1)
 
 
@@ -188,105 +188,127 @@ def fanned(d: Drum, program: MotionProgram, theta: Array,
     return theta[order], np.concatenate(columns, axis=1)[:, order], added[order]
 
 
-#: Points along each wall's track either side of a velocity step, where its crease is sought,
-#: then again between the two found to cross.
-CREASE_POINTS = 128
+#: Points along each wall's track either side of a velocity step where its crease is sought,
+#: then again between the two found to cross, :data:`CREASE_ROUNDS` times in all.
+CREASE_POINTS = 32
+CREASE_ROUNDS = 3
 
 
-def creased(d: Drum, program: MotionProgram, theta: Array, added: Mask, r: float,
-            walls: Walls) -> Walls:
-    """*walls* at radius *r* (mm) at the sections *theta* (rad; *added*: the sections of
+@dataclass(frozen=True)
+class Crease:
+    """Where a wall swept before a velocity step and the same wall swept after it cross, at
+    each of some radii: the cam angle of the crossing on either (rad), its polar angle (rad,
+    unwrapped about the step's axis angle) and height (mm); ``found`` False where they do not
+    cross."""
+
+    before: Array
+    after: Array
+    phi: Array
+    z: Array
+    found: Mask
+
+
+def creased(d: Drum, program: MotionProgram, theta: Array, added: Mask, radii: Array,
+            walls: list[Walls]) -> list[Walls]:
+    """*walls* at each of *radii* (mm) at the sections *theta* (rad; *added*: the sections of
     :func:`fanned`) trimmed at each velocity step's crease: on the inside of the bend the wall
     swept before the step and the one swept after cross, and what lies beyond their crossing is
     inside the roller at other angles (air, not wall). Every section between the crossing's cam
     angle before the step and its cam angle after it has its inner wall point there instead:
     the crease, where the two walls meet. (On the outside of the bend the added sections are
     the roller's own surface, and nothing is trimmed.)"""
-    out = {f: np.array(getattr(walls, f)) for f in ("phi_lower", "z_lower", "phi_upper",
-                                                    "z_upper")}
-    reach = 2.0 * _reach(d)
+    out = [{f: np.array(getattr(w, f)) for f in ("phi_lower", "z_lower", "phi_upper",
+                                                 "z_upper")} for w in walls]
     for angle, before, _ in velocity_steps(program):
-        u = np.linspace(0.0, 1.0, CREASE_POINTS)
-        # each wall's track in (ϕ, z), before and after the step, near it
-        t_before, t_after = angle - reach * u[::-1], angle + reach * u
+        delta = np.mod(theta - angle + math.pi, 2.0 * math.pi) - math.pi
         for lower in (True, False):
-            hit = _crossing(d, program, angle, before, r, lower, t_before, t_after)
-            if hit is None:
-                continue
-            t1, t2, phi_x, z_x = hit
-            delta = np.mod(theta - angle + math.pi, 2.0 * math.pi) - math.pi
-            trim = (added & (delta == 0.0)) | ((delta < 0.0) & (delta > t1 - angle)) | (
-                (delta >= 0.0) & ~added & (delta < t2 - angle))
+            crease = crossings(d, program, angle, before, radii, lower)
             key = "lower" if lower else "upper"
-            phi = out[f"phi_{key}"]  # the crease, on the turn each section's wall is on
-            phi[trim] = phi_x + 2.0 * math.pi * np.round((phi[trim] - phi_x) / (2.0 * math.pi))
-            out[f"z_{key}"][trim] = z_x
-    return Walls(**out)
+            for k in np.flatnonzero(crease.found):
+                trim = (added & (delta == 0.0)) | (
+                    (delta < 0.0) & (delta > crease.before[k] - angle)) | (
+                    (delta >= 0.0) & ~added & (delta < crease.after[k] - angle))
+                phi = out[k][f"phi_{key}"]  # the crease, on the turn each section's wall is on
+                phi_x = crease.phi[k]
+                phi[trim] = phi_x + 2.0 * math.pi * np.round((phi[trim] - phi_x)
+                                                             / (2.0 * math.pi))
+                out[k][f"z_{key}"][trim] = crease.z[k]
+    return [Walls(**w) for w in out]
 
 
-def _crossing(d: Drum, program: MotionProgram, angle: float, before: float, r: float,
-              lower: bool, t_before: Array,
-              t_after: Array) -> tuple[float, float, float, float] | None:
-    """Where a wall's track at radius *r* (mm) swept before the velocity step at *angle* (rad;
-    s′ *before* there, mm/rad) over the cam angles *t_before* crosses the one swept after it
-    over *t_after*: its cam angle on either (rad), and its polar angle (rad) and height (mm);
-    None when they do not cross. The crossing of the tracks' polylines, found again between
-    the pieces found to cross, :data:`CREASE_POINTS` to each."""
-    for _ in range(2):
-        a = _track(d, program, angle, before, r, lower, t_before)
-        b = _track(d, program, angle, before, r, lower, t_after)
-        hit = _polylines_cross(a, b)
-        if hit is None:
-            return None
-        i, j, fa, fb = hit
-        t1 = t_before[i] + fa * (t_before[i + 1] - t_before[i])
-        t2 = t_after[j] + fb * (t_after[j + 1] - t_after[j])
-        point = a[i] + fa * (a[i + 1] - a[i])
-        t_before = np.linspace(t_before[i], t_before[i + 1], CREASE_POINTS)
-        t_after = np.linspace(t_after[j], t_after[j + 1], CREASE_POINTS)
-    return t1, t2, float(point[0]), float(point[1])
+def crossings(d: Drum, program: MotionProgram, angle: float, before: float, radii: Array,
+              lower: bool) -> Crease:
+    """Where a wall's track at each of *radii* (mm) swept before the velocity step at *angle*
+    (rad; s′ *before* there, mm/rad) crosses the one swept after it, both followed within
+    twice the roller's angular reach of the step: the crossing of the tracks' polylines, found
+    again between the pieces found to cross, :data:`CREASE_POINTS` to each."""
+    reach = 2.0 * _reach(d)
+    u = np.linspace(0.0, 1.0, CREASE_POINTS)
+    count = radii.size
+    rows = np.arange(count)
+    t_before = np.broadcast_to(angle - reach * u[::-1], (count, u.size))
+    t_after = np.broadcast_to(angle + reach * u, (count, u.size))
+    found = np.ones(count, dtype=bool)
+    for _ in range(CREASE_ROUNDS):
+        a = _tracks(d, program, angle, before, radii, lower, t_before)
+        b = _tracks(d, program, angle, before, radii, lower, t_after)
+        i, j, fa, fb, hit = _polylines_cross(a, b)
+        found &= hit
+        t1 = t_before[rows, i] + fa * (t_before[rows, i + 1] - t_before[rows, i])
+        t2 = t_after[rows, j] + fb * (t_after[rows, j + 1] - t_after[rows, j])
+        point = a[rows, i] + fa[:, None] * (a[rows, i + 1] - a[rows, i])
+        t_before = np.linspace(t_before[rows, i], t_before[rows, i + 1], CREASE_POINTS, axis=1)
+        t_after = np.linspace(t_after[rows, j], t_after[rows, j + 1], CREASE_POINTS, axis=1)
+    return Crease(t1, t2, point[:, 0], point[:, 1], found)
 
 
-def _track(d: Drum, program: MotionProgram, angle: float, before: float, r: float,
-           lower: bool, t: Array) -> Array:
-    """A wall's track at radius *r* (mm) over cam angles *t* (rad, on one side of the velocity
-    step at *angle*, which takes s′ *before* there when *t* runs before it): (N, 2) polar
-    angle (rad, unwrapped about the step's axis angle) and height (mm)."""
-    m = program.evaluate(t)
-    if t[-1] <= angle:  # the track before the step ends at the step, with s′ before
-        m[1, -1] = before
-        m[2:, -1] = 0.0
-    w = d.walls(t, m[0], m[1], r)
+def _tracks(d: Drum, program: MotionProgram, angle: float, before: float, radii: Array,
+            lower: bool, t: Array) -> Array:
+    """A wall's tracks at *radii* (mm, R of them) over cam angles *t* ((R, N) rad, on one side
+    of the velocity step at *angle*, which takes s′ *before* there when *t* runs before it):
+    (R, N, 2) polar angle (rad, unwrapped about the step's axis angle) and height (mm)."""
+    m = program.evaluate(t.ravel()).reshape(4, *t.shape)
+    if t[0, -1] <= angle:  # the track before the step reaches it with s′ before
+        at = t == angle
+        m[1] = np.where(at, before, m[1])
+        m[2:] = np.where(at, 0.0, m[2:])
+    w = d.walls(t, m[0], m[1], radii[:, None])
     phi, z = (w.phi_lower, w.z_lower) if lower else (w.phi_upper, w.z_upper)
     centre = float(d.axis_angle(np.array([angle]))[0])
-    return np.column_stack((np.mod(phi - centre + math.pi, 2.0 * math.pi) - math.pi + centre, z))
+    return np.stack((np.mod(phi - centre + math.pi, 2.0 * math.pi) - math.pi + centre, z),
+                    axis=-1)
 
 
-def _polylines_cross(a: Array, b: Array) -> tuple[int, int, float, float] | None:
-    """The first crossing of the polylines *a* and *b* ((N, 2) each): the pieces' indices and
-    how far along each (0 to 1); None when they do not cross."""
-    p, q = a[:-1, None, :], b[None, :-1, :]
-    da, db = (a[1:] - a[:-1])[:, None, :], (b[1:] - b[:-1])[None, :, :]
+def _polylines_cross(a: Array, b: Array) -> tuple[Index, Index, Array, Array, Mask]:
+    """The first crossing of each pair of polylines *a* and *b* ((R, N, 2) each): the pieces'
+    indices and how far along each (0 to 1), and whether they cross (where not, the first
+    pieces)."""
+    p, q = a[:, :-1, None, :], b[:, None, :-1, :]
+    da, db = (a[:, 1:] - a[:, :-1])[:, :, None, :], (b[:, 1:] - b[:, :-1])[:, None, :, :]
     denom = da[..., 0] * db[..., 1] - da[..., 1] * db[..., 0]
     gap = q - p
     with np.errstate(divide="ignore", invalid="ignore"):
         fa = (gap[..., 0] * db[..., 1] - gap[..., 1] * db[..., 0]) / denom
         fb = (gap[..., 0] * da[..., 1] - gap[..., 1] * da[..., 0]) / denom
     inside = (denom != 0.0) & (fa >= 0.0) & (fa <= 1.0) & (fb >= 0.0) & (fb <= 1.0)
-    found = np.argwhere(inside)
-    if found.size == 0:
-        return None
     # the crossing nearest the step: the last piece before it, the first after it
-    i, j = max(found.tolist(), key=lambda k: (k[0], -k[1]))
-    return i, j, float(fa[i, j]), float(fb[i, j])
+    pieces_a, pieces_b = inside.shape[1:]
+    order = (np.arange(pieces_a)[:, None] * pieces_b
+             + (pieces_b - 1 - np.arange(pieces_b))[None, :])
+    best = np.argmax(np.where(inside, order, -1).reshape(len(a), -1), axis=1)
+    rows = np.arange(len(a))
+    i, j = best // pieces_b, best % pieces_b
+    hit = inside[rows, i, j]
+    return (i, j, np.where(hit, fa[rows, i, j], 0.0), np.where(hit, fb[rows, i, j], 0.0),
+            hit)
 
 
 def groove_tube(d: Drum, program: MotionProgram, tolerance: float) -> Tube:
     """The groove as one closed tube, its chords within *tolerance* (mm) of the exact walls."""
     theta, m, added = fanned(d, program, stations(d, program, tolerance), tolerance)
     radii = _rows(d, theta, m, tolerance)
-    walls = [creased(d, program, theta, added, r, d.walls(theta, m[0], m[1], r))
-             for r in radii]
+    walls = creased(d, program, theta, added, radii,
+                    [d.walls(theta, m[0], m[1], r) for r in radii])
     floor = walls[0]
     across = _across(d, floor, tolerance)
     # the cross-section, per station: (phi, r, z) columns around the ring
@@ -338,7 +360,8 @@ def development(d: Drum, program: MotionProgram, tolerance: float) -> Developmen
     # one turn later, the first section again: the walls close across the seam as they start
     theta, added = np.append(theta, theta[0] + 2.0 * math.pi), np.append(added, added[0])
     m = np.concatenate((m, m[:, :1]), axis=1)
-    walls = creased(d, program, theta, added, d.radius, d.walls(theta, m[0], m[1], d.radius))
+    walls = creased(d, program, theta, added, np.array([d.radius]),
+                    [d.walls(theta, m[0], m[1], d.radius)])[0]
     shift = 2.0 * math.pi if d.sigma > 0 else 0.0
 
     def unrolled(phi: Array, z: Array) -> Array:
@@ -519,27 +542,23 @@ def corner_play(d: Drum, program: MotionProgram) -> list[tuple[float, float]]:
     move off the design there in the exact groove (the union of the roller's positions).
 
     On the inside of the bend the walls swept before and after the step meet in a crease
-    (:func:`_crossing`) further from the roller's axis than its radius: at the step the roller
+    (:func:`crossings`) further from the roller's axis than its radius: at the step the roller
     touches neither, and can move toward the crease until it meets it; on the outside of the
     bend it touches its own surface, swept as it turns, and cannot move. A crease point at w
     across the axis and height z stops the centre √(R² − w²) from it. The play is the largest
     over the crease's radii (from the floor to the surface)."""
     out = []
-    reach = 2.0 * _reach(d)
-    u = np.linspace(0.0, 1.0, CREASE_POINTS)
+    radii = np.linspace(d.root, d.radius, PLAY_RADII)
     for angle, before, _ in velocity_steps(program):
         centre = d.start + float(program.evaluate(np.array([angle]))[0, 0])
         alpha = float(d.axis_angle(np.array([angle]))[0])
         play = 0.0
-        for r in np.linspace(d.root, d.radius, PLAY_RADII):
-            for lower in (True, False):
-                hit = _crossing(d, program, angle, before, float(r), lower,
-                                angle - reach * u[::-1], angle + reach * u)
-                if hit is None:
-                    continue
-                w = r * math.sin(hit[2] - alpha)
-                gap = math.sqrt(max(d.roller**2 - w * w, 0.0))
-                stop = hit[3] + gap if lower else hit[3] - gap
-                play = max(play, abs(centre - stop))
+        for lower in (True, False):
+            crease = crossings(d, program, angle, before, radii, lower)
+            w = radii * np.sin(crease.phi - alpha)
+            gap = np.sqrt(np.maximum(d.roller**2 - w * w, 0.0))
+            stop = crease.z + gap if lower else crease.z - gap
+            play = max(play, float(np.max(np.abs(centre - stop), where=crease.found,
+                                          initial=0.0)))
         out.append((angle, play))
     return out
