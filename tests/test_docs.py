@@ -2,7 +2,7 @@
 ``docs/hooks.py``) lists every key the design models and the loader take, with the cam types
 that take it; the command-line reference lists every command, argument and option; the README
 keeps its two commands short; and the site builds with ``mkdocs build --strict`` (when MkDocs is
-installed: the ``docs`` extra).
+installed: the ``docs`` extra); the walkthrough's commands run as the page shows them.
 
 The keys are found here by walking the pydantic models on their own, not through the hook's
 walk, so a model the hook's walk missed shows as a key missing from the page."""
@@ -12,6 +12,7 @@ from __future__ import annotations
 import importlib.util
 import os
 import re
+import shlex
 import subprocess
 import sys
 import typing
@@ -26,9 +27,19 @@ from camfab.cli import main
 from camfab.design import loader
 from camfab.design.cam_types import CAM_TYPES
 from camfab.design.model import Design, Segment
+from camfab.pipeline import load_design
+
+from .conftest import need_step_extra
+from .limited_child import run_limited
+from .page_commands import Fence, changed_rows, commands, excerpt_rows, fences, output_problem, play
 
 ROOT = Path(__file__).resolve().parents[1]
 HOOKS = ROOT / "docs" / "hooks.py"
+WALKTHROUGH = ROOT / "docs" / "walkthrough.md"
+#: The designs the walkthrough builds, step by step, and the scan it inspects.
+WALKTHROUGH_FILES = ROOT / "docs" / "walkthrough"
+#: CPU seconds one command of the walkthrough may take (a build with STEP takes some 4).
+COMMAND_CPU_S = 60.0
 
 #: The README's two commands: the first sets up and runs the main job, the second the tests
 #: (``.ci/run`` runs the second as it stands).
@@ -250,6 +261,90 @@ def test_the_site_builds_strictly(tmp_path: Path) -> None:
     assert "WARNING" not in done.stderr, done.stderr
     built = tmp_path / "site"
     for page in ("reference/design-file/index.html", "reference/cli/index.html",
-                 "SPEC/index.html", "THEORY/index.html", "architecture/index.html"):
+                 "SPEC/index.html", "THEORY/index.html", "architecture/index.html",
+                 "walkthrough/index.html", "walkthrough/pusher-1.yaml",
+                 "walkthrough/pusher-scan.csv"):
         assert (built / page).is_file(), page
     assert not (built / "hooks.py").exists() and not (built / "design-keys.yml").exists()
+
+
+def _shell(bin_folder: Path) -> typing.Callable[[str, Path], tuple[int, str]]:
+    """Run a command of a page in bash, as a reader would in a UTF-8 terminal, with ``camfab``
+    this checkout's (a script in *bin_folder* first on the path), under a CPU-time limit."""
+    camfab = bin_folder / "camfab"
+    camfab.write_text(f'#!/bin/sh\nexec {shlex.quote(sys.executable)} -m camfab "$@"\n')
+    camfab.chmod(0o755)
+
+    def run(command: str, folder: Path) -> tuple[int, str]:
+        setup = f'export PATH={shlex.quote(str(bin_folder))}:"$PATH" PYTHONIOENCODING=utf-8; '
+        done = run_limited(["bash", "-c", setup + command], cpu_s=COMMAND_CPU_S,
+                           wall_s=20 * COMMAND_CPU_S, cwd=folder)
+        return done.code, done.stdout + done.stderr
+
+    return run
+
+
+def test_the_walkthrough_runs_as_the_page_says(tmp_path: Path,
+                                               monkeypatch: pytest.MonkeyPatch) -> None:
+    """Every command of ``docs/walkthrough.md`` runs, in order, in one folder holding the files
+    the page uses as it shows them: each exits with the status the page says (1 where a check
+    fails) and prints the lines the page quotes; each design the page shows is the file in
+    ``docs/walkthrough/``, its changes from the step before all marked. The studio alone is not
+    started: its command line is parsed and its design loaded."""
+    need_step_extra()  # the page builds with --step
+    folder, bin_folder = tmp_path / "reader", tmp_path / "bin"
+    folder.mkdir()
+    bin_folder.mkdir()
+    page = WALKTHROUGH.read_text(encoding="utf-8")
+    played = play(page, WALKTHROUGH_FILES, folder, _shell(bin_folder),
+                  not_run=lambda command: command.startswith("camfab serve "))
+    assert not played.problems, "\n\n".join(played.problems)
+    ran = {shlex.split(command)[1] for command in played.ran if command.startswith("camfab ")}
+    assert {"new", "check", "build", "size", "inspect"} <= ran, ran
+    assert any("--step" in command for command in played.ran)
+    assert played.not_run == ["camfab serve pusher-4.yaml"]
+    args = shlex.split(played.not_run[0])[1:]
+    main.commands["serve"].make_context("serve", args[1:])
+    monkeypatch.chdir(folder)
+    load_design(args[1])
+    shown = {fence.options.get("title") for fence in fences(page)}
+    assert {p.name for p in WALKTHROUGH_FILES.glob("*.yaml")} <= shown
+
+
+def test_a_page_that_says_otherwise_is_caught(tmp_path: Path) -> None:
+    """The walkthrough's test fails where the page and what happens differ: another exit
+    status, a quoted line the command does not print, a line printed in another order, a
+    design's change left unmarked, an excerpt that is not the file's."""
+    files, folder = tmp_path / "files", tmp_path / "reader"
+    files.mkdir()
+    folder.mkdir()
+    (files / "d.yaml").write_text("a: 1\nb: 2\nc: 3\n")
+
+    def run(command: str, where: Path) -> tuple[int, str]:
+        return (1 if "fails" in command else 0), "first\nsecond\nthird\n"
+
+    good = ('```yaml title="d.yaml"\na: 1\nb: 2\nc: 3\n```\n'
+            "```console\n$ tool fails\nfirst\n…\nthird\n$ echo $?\n1\n"
+            "$ tool\nsec…\n```\n")
+    assert play(good, files, folder, run).problems == []
+    for bad in (good.replace("$ echo $?\n1\n", ""),
+                good.replace("third\n$ echo", "fourth\n$ echo"),
+                good.replace("first\n…\nthird", "third\n…\nfirst"),
+                good.replace("$ tool\n", "$ tool fails\n")):
+        assert play(bad, files, folder, run).problems, bad
+    (folder / "d.yaml").write_text("a: 1\nb: 5\nc: 3\n")
+    unmarked = play(good, files, folder, run).problems
+    assert unmarked and "changes rows [2]" in unmarked[0]
+    (folder / "d.yaml").write_text("a: 1\nb: 5\nc: 3\n")
+    marked = good.replace('title="d.yaml"', 'title="d.yaml" hl_lines="2"')
+    assert play(marked, files, folder, run).problems == []
+    with pytest.raises(AssertionError, match="where the block puts them"):
+        excerpt_rows(["b: 2", "# …", "c: 3"], "a: 1\nb: 2\nc: 3\n")
+    with pytest.raises(AssertionError, match="in the file as shown"):
+        excerpt_rows(["# …", "c: 3", "# …", "a: 1"], "a: 1\nb: 2\nc: 3\n")
+    with pytest.raises(AssertionError, match="goes on after the block"):
+        excerpt_rows(["a: 1"], "a: 1\nb: 2\n")
+    assert excerpt_rows(["a: 1", "# …", "c: 3"], "a: 1\nb: 2\nc: 3\n") == [0, None, 2]
+    assert changed_rows("a\nb\n", "a\nc\nd\n") == {1, 2}
+    assert output_problem(["x…"], "xyz\n") is None
+    assert commands(Fence("console", {}, ["$ a", "out", "$ echo $?", "2"]))[0].status == 2
