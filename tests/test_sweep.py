@@ -279,6 +279,12 @@ def test_variants_from_a_csv_file_and_the_best_built(tmp_path: Path) -> None:
         assert f"base_radius: {radius:g}" in (tmp_path / "out" / "best" /
                                                f"seed-10-4-v{index}.yaml").read_text()
         assert f"built out/best/seed-10-4-v{index}/" in result.output
+        # written as the studio saves an edit: the design's comments and layout kept
+        best = (tmp_path / "out" / "best" / f"seed-10-4-v{index}.yaml").read_text()
+        design = SEED.read_text()
+        comments = [line for line in design.splitlines() if line.lstrip().startswith("#")]
+        assert comments and all(line in best.splitlines() for line in comments)
+        assert len(best.splitlines()) == len(design.splitlines()) + 1  # the variant's header
     page = (tmp_path / "out" / "seed-10-4-sweep.html").read_text()
     assert "Best by least cam.base_radius" in page and "<svg" in page
 
