@@ -14,6 +14,7 @@ folder made for the set is removed again when nothing could be written into it.
 
 from __future__ import annotations
 
+import errno
 import glob
 import os
 import secrets
@@ -74,38 +75,131 @@ def write_files(folder: Path, files: Mapping[str, bytes],
     return [final for _, final in temps]
 
 
-def replace_file(path: Path, data: bytes) -> None:
-    """Replace the contents of the existing file *path* with *data* as one step: written to a
-    temporary file beside it, given the file's own permissions, then renamed over it (the
-    stopping signals held), so a reader or a stop sees the old file or the new, never a part.
+def replace_file(path: Path, data: bytes, label: str | None = None) -> None:
+    """Replace the contents of the existing file *path* (*label*: its name in the message
+    of an error; the path when None) with *data*, so that a stop sees the
+    old contents or the new, never a part (and so does a reader, but of a file written in
+    place), and the file stays the same file:
+
+    - a file this process may not write (read-only) is refused, as its folder would refuse;
+    - a symbolic link is followed: its target is written (the temporary file beside the
+      target), the link stays;
+    - the file keeps its permissions, its owner and its group (a program run as root gives
+      the new file the old one's owner);
+    - a file with more than one name (a hard link), or whose owner or group this process
+      cannot give a new file, is written in place (:func:`_write_in_place`), so that every
+      name sees the change and the file keeps its owner;
+    - otherwise the data goes to a temporary file beside it, flushed to the disk, then renamed
+      over it (the stopping signals held).
+
     The temporary file is removed on every way out.
 
     Raises
     ------
     OutputError
-        The file cannot be written; it is unchanged then.
+        The file cannot be written; it is unchanged then. Its ``errno`` is the system's
+        (``EACCES`` for a read-only file or folder, ``ENOSPC`` for a full disk).
     """
     import stat
 
-    folder = path.parent
+    target = Path(os.path.realpath(path))
     temp: Path | None = None
     try:
-        mode = stat.S_IMODE(os.stat(path).st_mode)
-        with deferred():  # a stop comes once the temporary file is made and noted
-            temp, stream = open_temp(folder, path.name)
-        with stream:
-            stream.write(data)
-        os.chmod(temp, mode)
-        with signals_held():
-            os.replace(temp, path)
-        temp = None
+        info = os.stat(target)
+        if not os.access(target, os.W_OK):  # a read-only file is not replaced behind its back
+            raise PermissionError(errno.EACCES, os.strerror(errno.EACCES), str(target))
+        if info.st_nlink == 1:
+            with deferred():  # a stop comes once the temporary file is made and noted
+                temp, stream = open_temp(target.parent, target.name)
+            with stream:
+                stream.write(data)
+                stream.flush()
+                os.fsync(stream.fileno())
+            if _owned_as(temp, info):
+                os.chmod(temp, stat.S_IMODE(info.st_mode))  # after the owner, whose change
+                with signals_held():                      # clears the set-id bits
+                    os.replace(temp, target)
+                temp = None
+                _sync_folder(target.parent)
+                return
+        _write_in_place(target, data)
     except OSError as exc:
-        raise OutputError(f"{path}: cannot write the design file ({exc.strerror or exc})"
-                          ) from None
+        error = OutputError(f"{label or path}: cannot write the design file "
+                            f"({exc.strerror or exc})")
+        error.errno = exc.errno
+        raise error from None
     finally:
         if temp is not None:
             with deferred():
                 temp.unlink(missing_ok=True)
+
+
+def _owned_as(temp: Path, info: os.stat_result) -> bool:
+    """Give the new file *temp* the owner and group of the file it replaces (*info*: its
+    status); False when this process may not (a file of another user's, or of a group it is
+    not in)."""
+    made = os.stat(temp)
+    if (made.st_uid, made.st_gid) == (info.st_uid, info.st_gid):
+        return True
+    try:
+        os.chown(temp, info.st_uid, info.st_gid)
+    except (PermissionError, AttributeError):  # AttributeError: a system without chown
+        return False
+    return True
+
+
+def _write_in_place(target: Path, data: bytes) -> None:
+    """Write *data* into the file *target* itself, keeping its inode (every name of a hard
+    link, its owner, group, permissions): first a temporary copy beside it, flushed to the
+    disk (it proves there is room and holds the new contents should the power fail during
+    the copy), then the data written over the old from the start and the rest cut off, the
+    stopping signals held. A write that fails half way puts the old contents back.
+    Raises OSError."""
+    old = target.read_bytes()
+    with deferred():
+        temp, stream = open_temp(target.parent, target.name)
+    try:
+        with stream:
+            stream.write(data)
+            stream.flush()
+            os.fsync(stream.fileno())
+        handle = os.open(target, os.O_WRONLY | _O_BINARY)
+        try:
+            with signals_held():
+                try:
+                    _overwrite(handle, data)
+                except OSError:
+                    _overwrite(handle, old)  # the old contents fit where they were
+                    raise
+        finally:
+            os.close(handle)
+    finally:
+        with deferred():
+            temp.unlink(missing_ok=True)
+
+
+def _overwrite(handle: int, data: bytes) -> None:
+    """The open file *handle* made to hold *data* exactly, flushed to the disk."""
+    os.lseek(handle, 0, os.SEEK_SET)
+    done = 0
+    while done < len(data):
+        done += os.write(handle, data[done:])
+    os.ftruncate(handle, len(data))
+    os.fsync(handle)
+
+
+def _sync_folder(folder: Path) -> None:
+    """Flush *folder*'s entries to the disk (a rename made durable), where the system can."""
+    try:
+        handle = os.open(folder, os.O_RDONLY)
+    except OSError:
+        return
+    try:
+        os.fsync(handle)
+    except OSError:
+        pass
+    finally:
+        os.close(handle)
 
 
 def cannot_write(folder: Path, exc: OSError) -> OutputError:

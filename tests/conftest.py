@@ -7,9 +7,14 @@ from __future__ import annotations
 import json
 import math
 import os
+import re
 import shutil
+import signal
+import subprocess
+import sys
 import time
 from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -66,6 +71,26 @@ def page_wait(browser: Any, script: str, *args: Any, seconds: float = 120.0) -> 
             return value
         time.sleep(0.05)
     raise AssertionError(f"the page never came to: {script}")
+
+
+@contextmanager
+def serving(file: Path, seconds: float = 120.0) -> Iterator[str]:
+    """``camfab serve`` of the design *file* (run in its folder, on a free port): the address of
+    its page; on leaving, stopped by Ctrl-C, which it must take cleanly (a backstop of
+    *seconds* on the stop)."""
+    server = subprocess.Popen([sys.executable, "-m", "camfab", "serve", file.name, "--no-open",
+                               "--port", "0"], cwd=file.parent, stdout=subprocess.PIPE,
+                              stderr=subprocess.PIPE, text=True)
+    url = re.search(r"http://\S+", server.stdout.readline())
+    if url is None:
+        server.kill()
+        pytest.fail(server.communicate(timeout=seconds)[1])
+    try:
+        yield url.group(0)
+    finally:
+        server.send_signal(signal.SIGINT)
+        _, err = server.communicate(timeout=seconds)
+    assert server.returncode == 130 and err == "camfab: interrupted\n"
 
 
 def need_step_extra() -> None:

@@ -6,8 +6,9 @@ the page raises no script error and draws something; the figures of the cam at i
 the slider too, and the drawing's title says the frame's cam angle; no legend box covers a
 plotted curve (from the SVG's geometry), and no text of a figure covers another, crosses a legend
 box or leaves the figure (as Chromium lays the text out); the figures fill their cards with text
-of 11 px and more; printed to PDF, no page of any design ends on a heading, alone or with only
-the words that lead into its table or figure. The JSON report carries every input of the design
+of 11 px and more; in windows 1024 to 1600 px wide nothing is wider than its card and the page
+does not scroll sideways; printed to PDF, no page of any design ends on a heading, alone or with
+only the words that lead into its table or figure. The JSON report carries every input of the design
 that the design file takes for its cam type and follower (the design model's fields walked)."""
 
 from __future__ import annotations
@@ -329,6 +330,51 @@ def test_the_figures_fill_their_cards_with_text_of_11_px_and_more(browser: Any, 
     for where, width, inner, smallest in figures:
         assert width >= 0.9 * inner, (where, width, inner)
         assert smallest >= 11.0, (where, smallest)
+
+
+#: What sticks out of the page's cards (the header, each section): each element (an SVG figure
+#: as a whole) that reaches past its card's sides, but for those inside a box of the card that
+#: scrolls sideways (a wide table's), as [card, tag, px past the card's right side]; and how far
+#: the page itself scrolls sideways (px).
+STICKING_OUT = r"""
+const out = [];
+for (const card of document.querySelectorAll('body > header, main > section')) {
+  const box = card.getBoundingClientRect();
+  for (const el of card.querySelectorAll('*')) {
+    if (el.closest('svg') && el.tagName !== 'svg') { continue; }
+    let scroller = null;
+    for (let p = el.parentElement; p && p !== card && !scroller; p = p.parentElement) {
+      const o = getComputedStyle(p).overflowX;
+      if (o === 'auto' || o === 'scroll') { scroller = p; }
+    }
+    const r = el.getBoundingClientRect();
+    if (scroller || (r.width === 0 && r.height === 0)) { continue; }
+    if (r.right > box.right + 0.5 || r.left < box.left - 0.5) {
+      out.push([card.id || card.tagName, el.tagName, Math.round(r.right - box.right)]);
+    }
+  }
+}
+const page = document.documentElement;
+return [out.slice(0, 5), page.scrollWidth - page.clientWidth];
+"""
+
+
+@pytest.mark.parametrize("path", DESIGN_FILES, ids=[p.stem for p in DESIGN_FILES])
+def test_nothing_is_wider_than_its_card_and_the_page_never_scrolls_sideways(
+        browser: Any, tmp_path: Path, path: Path) -> None:
+    """In windows 1024, 1280 and 1600 px wide: no table, figure or line of the page wider than
+    the card it is in (a wide table scrolls sideways in a box of its own), and the page as a
+    whole not wider than the window."""
+    page, _, _ = _page(path.stem, tmp_path)
+    try:
+        for width in (1024, 1280, 1600):
+            browser.execute_cdp_cmd("Emulation.setDeviceMetricsOverride", {
+                "width": width, "height": 900, "deviceScaleFactor": 1, "mobile": False})
+            browser.get(page.as_uri())
+            out, sideways = browser.execute_script(STICKING_OUT)
+            assert out == [] and sideways == 0, (width, out, sideways)
+    finally:
+        browser.execute_cdp_cmd("Emulation.clearDeviceMetricsOverride", {})
 
 
 def _curves_and_legends(svg: str) -> tuple[list[np.ndarray], list[tuple[float, ...]]]:

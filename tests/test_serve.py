@@ -189,10 +189,12 @@ def test_a_save_changes_the_one_value_keeps_the_comments_and_refuses_after_a_cha
                        "+   base_radius: 22.5        # D_b = 40 mm"], changed
     assert before.count("#") == after.count("#") > 0
     assert os.stat(disc.file).st_mode & 0o777 == mode
-    # another editor saves the file: the studio's next save is refused, the file stays theirs
+    # another editor saves the file while the studio holds an edit: the studio's save is
+    # refused, the file stays theirs (the edit first: a studio that read their file before
+    # the edit would rightly edit and save it)
+    assert disc.request("/api/edit", {"path": "cam.base_radius", "value": 25})[0] == 200
     theirs = after + "# a note from another editor\n"
     disc.file.write_text(theirs)
-    assert disc.request("/api/edit", {"path": "cam.base_radius", "value": 25})[0] == 200
     status, body = disc.request("/api/save", {})
     assert status == 409
     assert "changed on disk since the studio loaded it" in json.loads(body)["error"]

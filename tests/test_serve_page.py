@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import re
 import shutil
-import signal
 import subprocess
 import sys
 from collections.abc import Iterator
@@ -18,7 +17,7 @@ from typing import Any
 
 import pytest
 
-from .conftest import DESIGNS, chromium, page_wait
+from .conftest import DESIGNS, chromium, page_wait, serving
 
 pytest.importorskip("starlette")
 pytest.importorskip("uvicorn")
@@ -39,21 +38,13 @@ def browser() -> Any:
 @pytest.fixture(scope="module")
 def studio(tmp_path_factory: pytest.TempPathFactory, browser: Any) -> Iterator[Path]:
     """``camfab serve`` of a copy of the example, its page open; the design file."""
-    folder = tmp_path_factory.mktemp("page")
-    file = folder / "design.yaml"
+    file = tmp_path_factory.mktemp("page") / "design.yaml"
     shutil.copy(DESIGNS / f"{NAME}.yaml", file)
-    server = subprocess.Popen([sys.executable, "-m", "camfab", "serve", file.name, "--no-open",
-                               "--port", "0"], cwd=folder, stdout=subprocess.PIPE,
-                              stderr=subprocess.PIPE, text=True)
-    url = re.search(r"http://\S+", server.stdout.readline())
-    assert url, server.stderr.read()
-    browser.get(url.group(0))
-    page_wait(browser, "return document.body.dataset.ready === 'yes' && "
-                       "+document.body.dataset.verified > 0")
-    yield file
-    server.send_signal(signal.SIGINT)
-    _, err = server.communicate(timeout=BACKSTOP)
-    assert server.returncode == 130 and err == "camfab: interrupted\n"
+    with serving(file, BACKSTOP) as url:
+        browser.get(url)
+        page_wait(browser, "return document.body.dataset.ready === 'yes' && "
+                           "+document.body.dataset.verified > 0")
+        yield file
 
 
 def front(browser: Any, script: str) -> Any:

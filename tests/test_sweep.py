@@ -279,6 +279,12 @@ def test_variants_from_a_csv_file_and_the_best_built(tmp_path: Path) -> None:
         assert f"base_radius: {radius:g}" in (tmp_path / "out" / "best" /
                                                f"seed-10-4-v{index}.yaml").read_text()
         assert f"built out/best/seed-10-4-v{index}/" in result.output
+        # written as the studio saves an edit: the design's comments and layout kept
+        best = (tmp_path / "out" / "best" / f"seed-10-4-v{index}.yaml").read_text()
+        design = SEED.read_text()
+        comments = [line for line in design.splitlines() if line.lstrip().startswith("#")]
+        assert comments and all(line in best.splitlines() for line in comments)
+        assert len(best.splitlines()) == len(design.splitlines()) + 1  # the variant's header
     page = (tmp_path / "out" / "seed-10-4-sweep.html").read_text()
     assert "Best by least cam.base_radius" in page and "<svg" in page
 
@@ -297,7 +303,7 @@ def test_the_page_counts_each_cell_of_the_region_from_the_table(tmp_path: Path) 
     found = {}
     for title in svg.iter("{http://www.w3.org/2000/svg}title"):
         m = re.fullmatch(r"cam\.base_radius (\S+), follower\.offset (\S+): (\d+) OK, (\d+) "
-                         r"FAIL, (\d+) INVALID", title.text or "")
+                         r"FAIL, (\d+) INVALID(\nfailing: .*)?", title.text or "")
         assert m is not None, title.text
         found[(float(m.group(1)), float(m.group(2)))] = [int(m.group(i)) for i in (3, 4, 5)]
     assert found == expected

@@ -15,10 +15,14 @@ API (JSON unless said):
 ``POST /api/edit`` ``{"path": "cam.base_radius", "value": 42}``
     the key set in the studio's text (not saved) and the new report JSON; with
     ``?respond=view`` the page's view instead (the report page of the analysis, at once,
-    before the files are made and read back).
+    before the files are made and read back). 400 for a path the design has not (with the
+    closest it has) or a value that is not a number, a word or true/false; 409 when the text
+    is not YAML the editor reads; 422 with the located line and the edit (``"edit"``) when the
+    edited design does not load (the next edit is made without it).
 ``POST /api/save``, ``POST /api/reload``
-    write the edits into the design file (409 when it changed on disk since it was loaded);
-    drop them and take the file as it is.
+    write the edits into the design file (409 when it changed on disk since it was loaded,
+    403 when the file or its folder is read-only, 507 when the disk is full); drop them and
+    take the file as it is.
 ``POST /api/size``, ``POST /api/build``
     ``camfab size``'s answer and the edits that apply it; the files written as
     ``camfab build`` writes them, listed.
@@ -28,13 +32,23 @@ API (JSON unless said):
     server-sent events: ``state`` after each change (an edit, the file changed on disk),
     ``verified`` when its files are made and read back, ``report`` with the new report JSON
     (as ``/api/report`` gives it) after that, ``fault`` for a failure of camfab's own.
+
+Every refusal is a status and ``{"error": line}``, one line; a request the client gives up
+half way is dropped without a word; a fault of camfab's own is a 500 with its one line (and
+one line on stderr), never a traceback.
 """
 
 from __future__ import annotations
 
 import asyncio
+import errno
+import functools
 import json
+import math
+import os
+import re
 import secrets
+import sys
 import time
 from collections.abc import AsyncIterator, Callable
 from contextlib import asynccontextmanager
@@ -44,13 +58,13 @@ from typing import Any
 
 from starlette.applications import Starlette
 from starlette.concurrency import run_in_threadpool
-from starlette.requests import Request
+from starlette.requests import ClientDisconnect, Request
 from starlette.responses import JSONResponse, Response, StreamingResponse
 from starlette.routing import Route
 from starlette.types import ASGIApp, Receive, Scope, Send
 
-from camfab.errors import CamfabError
-from camfab.serve.studio import Conflict, Studio
+from camfab.errors import CamfabError, OutputError
+from camfab.serve.studio import Conflict, Studio, Unreadable
 from camfab.serve.watch import Watcher
 from camfab.serve.yamledit import EditError
 
@@ -58,6 +72,12 @@ from camfab.serve.yamledit import EditError
 THREE_VERSION = "0.187.0"
 #: Largest request body the API reads (bytes): an edit is a path and a value.
 MAX_BODY = 64 * 1024
+#: How long a request's body may take to arrive (s): an edit's is a few dozen bytes.
+BODY_SECONDS = 10.0
+#: The status of a save that failed, by the system's error: a read-only file or folder, a
+#: full disk (or quota).
+SAVE_STATUS = {errno.EACCES: 403, errno.EPERM: 403, errno.EROFS: 403, errno.ENOSPC: 507,
+               getattr(errno, "EDQUOT", errno.ENOSPC): 507}
 #: Seconds between the events stream's keep-alive comments, and between its looks at whether
 #: the server stops (a stop ends the streams within that time).
 KEEPALIVE_SECONDS = 15.0
@@ -119,7 +139,7 @@ def studio_app(studio: Studio, token: str, hosts: set[str] | None, hub: Hub) -> 
                         headers={"Cache-Control": "private, max-age=3600"})
 
     async def state(request: Request) -> Response:
-        return JSONResponse(await run_in_threadpool(studio.state))
+        return _state(studio, await run_in_threadpool(studio.state))
 
     async def report(request: Request) -> Response:
         return await _report_of(studio)
@@ -128,17 +148,22 @@ def studio_app(studio: Studio, token: str, hosts: set[str] | None, hub: Hub) -> 
         body = await _json_body(request)
         if not isinstance(body, dict) or set(body) != {"path", "value"}:
             return _problem(400, 'the body must be {"path": ..., "value": ...}')
+        path, value = body["path"], _edit_value(body["value"])
         started = time.perf_counter()
+        undone = studio.broken  # an edit that broke the design, taken back by this one
         try:
-            view = await run_in_threadpool(studio.edit, body["path"], body["value"])
+            view = await run_in_threadpool(studio.edit, path, value)
         except EditError as exc:
             return _problem(400, str(exc))
-        if request.query_params.get("respond") == "view":  # the page's: no fields, it has them
-            spent = (time.perf_counter() - started) * 1e3
-            return JSONResponse(studio.state(fields=False),
-                                headers={"Server-Timing": f"edit;dur={spent:.1f}"})
+        except Unreadable as exc:
+            return _problem(409, str(exc))
+        if request.query_params.get("respond") == "view":  # the page's: the fields it has,
+            spent = (time.perf_counter() - started) * 1e3  # but one taken back
+            fields = undone is not None and undone["path"] != path
+            return _state(studio, studio.state(fields=fields),
+                          headers={"Server-Timing": f"edit;dur={spent:.1f}"})
         if view.error is not None:
-            return _problem(422, view.error)
+            return JSONResponse({"error": view.error, "edit": studio.broken}, status_code=422)
         return await _report_of(studio)
 
     async def save(request: Request) -> Response:
@@ -146,6 +171,8 @@ def studio_app(studio: Studio, token: str, hosts: set[str] | None, hub: Hub) -> 
             saved = await run_in_threadpool(studio.save)
         except Conflict as exc:
             return _problem(409, str(exc))
+        except OutputError as exc:
+            return _problem(SAVE_STATUS.get(exc.errno or 0, 500), str(exc))
         except CamfabError as exc:
             return _problem(500, str(exc))
         return JSONResponse({"saved": saved, "edited": studio.edited})
@@ -155,7 +182,7 @@ def studio_app(studio: Studio, token: str, hosts: set[str] | None, hub: Hub) -> 
             await run_in_threadpool(studio.reload)
         except CamfabError as exc:
             return _problem(422, str(exc))
-        return JSONResponse(await run_in_threadpool(studio.state))
+        return _state(studio, await run_in_threadpool(studio.state))
 
     async def size(request: Request) -> Response:
         try:
@@ -180,12 +207,18 @@ def studio_app(studio: Studio, token: str, hosts: set[str] | None, hub: Hub) -> 
                              "exit_code": made.analysis.exit_code})
 
     async def part(request: Request) -> Response:
+        named = request.path_params["index"]
+        index, version = _whole(named), _version(request)
+        if index is None:
+            return _problem(404, f"part {json.dumps(named[:20])}: not a part's number")
         try:
-            made = await run_in_threadpool(studio.verified, _version(request))
-            name = made.stl_names[int(request.path_params["index"])]
-        except (CamfabError, IndexError) as exc:
-            return _problem(409 if isinstance(exc, CamfabError) else 404, str(exc))
-        return Response(made.artifacts.files[name], media_type="model/stl")
+            made = await run_in_threadpool(studio.verified, version)
+        except CamfabError as exc:
+            return _problem(409, str(exc))
+        if index >= len(made.stl_names):
+            return _problem(404, f"part {index}: version {made.version} has "
+                                 f"{len(made.stl_names)} part(s)")
+        return Response(made.artifacts.files[made.stl_names[index]], media_type="model/stl")
 
     async def events(request: Request) -> Response:
         return StreamingResponse(_stream(hub, studio), media_type="text/event-stream",
@@ -202,19 +235,22 @@ def studio_app(studio: Studio, token: str, hosts: set[str] | None, hub: Hub) -> 
             watcher.cancel()
             studio.close()
 
+    def route(path: str, endpoint: Callable[[Request], Any], post: bool = False) -> Route:
+        return Route(path, _answering(endpoint), methods=["POST"] if post else None)
+
     routes = [
-        Route("/", page),
-        Route("/s/{key}/{name:path}", asset),
-        Route("/api/state", state),
-        Route("/api/report", report),
-        Route("/api/edit", edit, methods=["POST"]),
-        Route("/api/save", save, methods=["POST"]),
-        Route("/api/reload", reload, methods=["POST"]),
-        Route("/api/size", size, methods=["POST"]),
-        Route("/api/build", build, methods=["POST"]),
-        Route("/api/verified", verified),
-        Route("/api/part/{index:int}", part),
-        Route("/api/events", events),
+        route("/", page),
+        route("/s/{key}/{name:path}", asset),
+        route("/api/state", state),
+        route("/api/report", report),
+        route("/api/edit", edit, post=True),
+        route("/api/save", save, post=True),
+        route("/api/reload", reload, post=True),
+        route("/api/size", size, post=True),
+        route("/api/build", build, post=True),
+        route("/api/verified", verified),
+        route("/api/part/{index}", part),
+        route("/api/events", events),
     ]
     return guarded(Starlette(routes=routes, lifespan=lifespan), token, hosts)
 
@@ -256,26 +292,117 @@ def guarded(app: ASGIApp, token: str, hosts: set[str] | None) -> ASGIApp:
     return check
 
 
+class Refused(Exception):
+    """A request the API refuses: its status and its one line (``{"error": line}``)."""
+
+    def __init__(self, status: int, line: str) -> None:
+        super().__init__(line)
+        self.status = status
+        self.line = line
+
+
 def _problem(status: int, line: str) -> JSONResponse:
     return JSONResponse({"error": line}, status_code=status)
 
 
+def _answering(endpoint: Callable[[Request], Any]) -> Callable[[Request], Any]:
+    """*endpoint* answering every way out in one line: a :class:`Refused` request its status
+    and line; a client gone half way nothing (there is no one to answer); a fault of camfab's
+    own a 500 with its line, and the same line on stderr (the traceback with
+    ``CAMFAB_DEBUG=1``)."""
+
+    @functools.wraps(endpoint)
+    async def answer(request: Request) -> Response:
+        try:
+            return await endpoint(request)
+        except Refused as exc:
+            return _problem(exc.status, exc.line)
+        except ClientDisconnect:
+            return Response(status_code=400)  # not sent: the client is gone
+        except Exception as exc:
+            if os.environ.get("CAMFAB_DEBUG"):
+                raise
+            line = (f"camfab serve: internal error answering {request.method} "
+                    f"{request.url.path}: {type(exc).__name__}: {exc}")
+            line = " ".join(line.split())[:500]
+            sys.stderr.write(line + " (set CAMFAB_DEBUG=1 for details; please report it)\n")
+            return _problem(500, line)
+
+    return answer
+
+
+def _whole(text: str) -> int | None:
+    """*text* as a whole number when it is one, in ASCII digits and of a sane size (Python's
+    ``str.isdigit`` takes ``²``, which ``int`` refuses)."""
+    return int(text) if re.fullmatch(r"[0-9]{1,12}", text) else None
+
+
 def _version(request: Request) -> int | None:
+    """The query's ``version`` (None when not given); refused (400) when not a whole
+    number."""
     text = request.query_params.get("version")
-    return int(text) if text is not None and text.isdigit() and len(text) < 12 else None
+    if text is None:
+        return None
+    version = _whole(text)
+    if version is None:
+        raise Refused(400, f"version: must be a whole number, got {json.dumps(text[:20])}")
+    return version
+
+
+def _edit_value(value: Any) -> Any:
+    """An edit's *value* as JSON gave it; refused (400) when it is a whole number no float
+    holds (``10**400``: no design value is that big)."""
+    if isinstance(value, int) and not isinstance(value, bool):
+        try:
+            float(value)
+        except OverflowError:
+            raise Refused(400, f"value: a number of {len(str(abs(value)))} digits is out "
+                               "of range") from None
+    return value
 
 
 async def _json_body(request: Request) -> Any:
-    """The request's JSON body, of at most :data:`MAX_BODY` bytes (None when it is not)."""
-    data = bytearray()
-    async for chunk in request.stream():
-        data += chunk
-        if len(data) > MAX_BODY:
-            return None
+    """The request's JSON body, of at most :data:`MAX_BODY` bytes (None when it is not, or
+    is JSON nested deeper than Python's parser goes); refused (408) when it takes longer than
+    :data:`BODY_SECONDS` to arrive."""
+
+    async def read() -> bytes | None:
+        data = bytearray()
+        async for chunk in request.stream():
+            data += chunk
+            if len(data) > MAX_BODY:
+                return None
+        return bytes(data)
+
+    try:
+        data = await asyncio.wait_for(read(), BODY_SECONDS)
+    except asyncio.TimeoutError:
+        raise Refused(408, f"the request's body took longer than {BODY_SECONDS:g} s") from None
+    if data is None:
+        return None
     try:
         return json.loads(data)
-    except (ValueError, UnicodeDecodeError):
+    except (ValueError, UnicodeDecodeError, RecursionError):
         return None
+
+
+def _state(studio: Studio, state: dict[str, Any], **options: Any) -> JSONResponse:
+    """The page's view *state* of *studio* as JSON, with the edit that broke the design
+    (``broken``); a number JSON cannot hold (``1e400`` read as infinity) as null: the design's
+    own line says what is wrong with it."""
+    state["broken"] = studio.broken
+    return JSONResponse(_finite(state), **options)
+
+
+def _finite(data: Any) -> Any:
+    """*data* with each float that is not finite replaced by None."""
+    if isinstance(data, float):
+        return data if math.isfinite(data) else None
+    if isinstance(data, dict):
+        return {k: _finite(v) for k, v in data.items()}
+    if isinstance(data, list):
+        return [_finite(v) for v in data]
+    return data
 
 
 async def _report_of(studio: Studio) -> Response:

@@ -4,6 +4,12 @@ The file is read and the port taken before anything is served, so that a missing
 file, a port in use or a host that is not this machine's is one line and status 2. The server
 listens on the loopback address unless ``--host`` names another (then with a warning line), and
 the URL it prints carries the session's random token, without which every request is refused.
+
+A request must name the server as it is reached (its Host header): on a loopback address only
+the loopback names and addresses (a page of another site whose name a DNS answer points at
+127.0.0.1 is refused); on another address that address and the name ``--host`` gave; on every
+address (``--host 0.0.0.0``, ``0``, ``::``) any name, the machine's printed URL that of its
+loopback address. The connections are bounded (:mod:`camfab.serve.connections`).
 """
 
 from __future__ import annotations
@@ -21,6 +27,7 @@ from pathlib import Path
 from typing import Any
 
 from camfab.errors import CamfabError
+from camfab.serve.connections import BACKLOG
 from camfab.stopping import STOPPING
 
 #: The port the studio takes unless told (``--port``; 0 takes any free one).
@@ -71,7 +78,7 @@ def listen(host: str, port: int) -> socket.socket:
         if os.name != "nt":
             sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
         sock.bind(address)
-        sock.listen(64)
+        sock.listen(BACKLOG)
     except OSError as exc:
         sock.close()
         import errno
@@ -88,6 +95,38 @@ def listen(host: str, port: int) -> socket.socket:
     return sock
 
 
+def bound_address(sock: socket.socket) -> str:
+    """The address *sock* is bound to, as an URL writes it (``[::1]`` for IPv6)."""
+    address = str(sock.getsockname()[0])
+    return f"[{address}]" if ":" in address else address
+
+
+def allowed_hosts(given: str, sock: socket.socket) -> set[str] | None:
+    """The Host headers a request to the server on *sock* may carry (None: any), *given*
+    the ``--host`` it was asked for: on a loopback address the loopback names and addresses
+    (and *given*, which named it); on every address any; on another address that address and
+    *given*."""
+    address, port = sock.getsockname()[:2]
+    if _wildcard(address):
+        return None
+    shown = bound_address(sock)
+    named = f"[{given}]" if ":" in given else given
+    hosts = {f"{shown}:{port}", f"{named}:{port}"}
+    if _loopback(address):
+        hosts |= {f"localhost:{port}", f"127.0.0.1:{port}", f"[::1]:{port}"}
+    return hosts
+
+
+def page_url(sock: socket.socket, token: str) -> str:
+    """The page's URL on *sock*: its address, or on every address the loopback one."""
+    address, port = sock.getsockname()[:2]
+    if _wildcard(address):
+        shown = "[::1]" if sock.family == socket.AF_INET6 else "127.0.0.1"
+    else:
+        shown = bound_address(sock)
+    return f"http://{shown}:{port}/?token={token}"
+
+
 def serve(design: str, port: int = DEFAULT_PORT, host: str | None = None,
           open_page: bool | None = None) -> int:
     """Serve the studio of design file *design* on *host* (the loopback address unless
@@ -100,35 +139,38 @@ def serve(design: str, port: int = DEFAULT_PORT, host: str | None = None,
     read_design_text(path)  # a file missing or unreadable is said before the port is taken
     host = host or "127.0.0.1"
     sock = listen(host, port)
-    port = sock.getsockname()[1]
     try:
-        return _run(path, design, sock, host, port, open_page)
+        return _run(path, design, sock, host, open_page)
     finally:
         sock.close()
 
 
-def _run(path: Path, label: str, sock: socket.socket, host: str, port: int,
+def _run(path: Path, label: str, sock: socket.socket, host: str,
          open_page: bool | None) -> int:
     import uvicorn
 
     from camfab.serve.app import Hub, notifier, studio_app
+    from camfab.serve.connections import KEEP_ALIVE_SECONDS, connection_bound, protocol_class
     from camfab.serve.studio import Studio
 
     token = secrets.token_urlsafe(24)
-    shown = f"[{host}]" if ":" in host else host
-    hosts = None if _wildcard(host) else {f"{shown}:{port}"} | (
-        {f"localhost:{port}", f"127.0.0.1:{port}", f"[::1]:{port}"} if _loopback(host) else set())
+    address, port = sock.getsockname()[:2]
     hub = Hub()
     studio = Studio(path, label, notifier(hub))
-    app = studio_app(studio, token, hosts, hub)
-    config = uvicorn.Config(app, log_level="warning", access_log=False, lifespan="on",
-                            timeout_graceful_shutdown=2)
+    app = studio_app(studio, token, allowed_hosts(host, sock), hub)
+    # uvicorn's warnings are about clients (a request that is not HTTP, each): not logged
+    config = uvicorn.Config(app, log_level="error", access_log=False, lifespan="on",
+                            timeout_graceful_shutdown=2, http=protocol_class(connection_bound()),
+                            backlog=BACKLOG, timeout_keep_alive=KEEP_ALIVE_SECONDS)
     server = _server_class()(config)
     hub.should_stop = lambda: bool(server.should_exit)
-    url = f"http://{'127.0.0.1' if _wildcard(host) else shown}:{port}/?token={token}"
-    if not _loopback(host):
-        sys.stderr.write(f"camfab serve: listening on {host}: anyone who can reach this machine "
-                         "and has the URL can read and change the design\n")
+    url = page_url(sock, token)
+    if not _loopback(address):
+        reach = (f" (every address; from another machine: http://{socket.gethostname()}:"
+                 f"{port}/?token={token})" if _wildcard(address) else "")
+        sys.stderr.write(f"camfab serve: listening on {bound_address(sock)}: anyone who can "
+                         f"reach this machine and has the URL can read and change the design"
+                         f"{reach}\n")
     sys.stdout.write(f"camfab serve: {label} at {url} (Ctrl-C stops)\n")
     sys.stdout.flush()
     if open_page is None:
@@ -158,6 +200,14 @@ def _server_class() -> type:
         its one line and status (uvicorn would raise it inside the loop's shutdown)."""
 
         stops: list[int]
+
+        async def startup(self, sockets: list[socket.socket] | None = None) -> None:
+            import asyncio
+
+            from camfab.serve.connections import quiet_accept_errors
+
+            quiet_accept_errors(asyncio.get_running_loop())
+            await super().startup(sockets=sockets)
 
         @contextmanager
         def capture_signals(self) -> Iterator[None]:

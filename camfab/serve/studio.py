@@ -41,6 +41,22 @@ class Stale(CamfabError):
     """A version asked for is no longer the current one."""
 
 
+class Unreadable(CamfabError):
+    """The text is not YAML the studio's editor can read (a tab, a second document): its one
+    line; the file is to be mended in an editor."""
+
+
+@dataclass(frozen=True)
+class Broken:
+    """The edit after which a design that loaded no longer loads: the version it made, its
+    path and value, and the text before it (the next edit is made on that text)."""
+
+    version: int
+    path: str
+    value: Any
+    before: str
+
+
 @dataclass(frozen=True)
 class View:
     """What the page shows of one version: the design's report page from its analysis (the
@@ -90,6 +106,7 @@ class Studio:
         self._verified: Verified | None = None
         self._timer: threading.Timer | None = None
         self._building = threading.Lock()
+        self._broken: Broken | None = None
         self._change(self.text, origin="load")
 
     # --- the state -----------------------------------------------------------------------
@@ -98,6 +115,15 @@ class Studio:
     def edited(self) -> bool:
         """True when the page's edits are not saved."""
         return self.text != self.disk_text
+
+    @property
+    def broken(self) -> dict[str, Any] | None:
+        """The edit that made the current version fail to load, ``{"path": …, "value": …}``
+        (None when it loads, or when what does not load is the file's own text)."""
+        broken = self._broken
+        if broken is None or broken.version != self.version:
+            return None
+        return {"path": broken.path, "value": broken.value}
 
     def state(self, fields: bool = True) -> dict[str, Any]:
         """The page's view of the studio: the version, its report page or error, whether there
@@ -152,12 +178,39 @@ class Studio:
     # --- what the page and the API do ------------------------------------------------------
 
     def edit(self, path: str, value: Any) -> View:
-        """Set the key at *path* to *value* in the text (not saved) and analyse it (raises
-        :class:`~camfab.serve.yamledit.EditError` for a path the design has not)."""
-        from camfab.serve.yamledit import set_value
+        """Set the key at *path* to *value* in the text (not saved) and analyse it.
+
+        An edit after which a design that loaded does not load any more is shown (its
+        located line; :attr:`broken` names it) and taken back by the next edit, which is made
+        on the text before it: a later edit's own error is never masked by it, and a valid
+        edit clears it.
+
+        Raises
+        ------
+        EditError
+            A path the design has not (with the closest path it has), or a value that is not
+            a number, a word or true/false.
+        Unreadable
+            The text is not YAML the editor can read: the design's own located line.
+        """
+        from ruamel.yaml.error import YAMLError
+
+        from camfab.serve.yamledit import EditError, set_value
 
         with self._lock:
-            return self._change(set_value(self.text, path, value), origin="edit")
+            broken = self._broken if self.broken is not None else None
+            base = self.text if broken is None else broken.before
+            try:
+                text = set_value(base, path, value)
+            except EditError as exc:
+                raise _suggested(exc, path, base) from None
+            except (YAMLError, RecursionError) as exc:
+                raise Unreadable(self.view.error or _yaml_line(self.label, exc)) from None
+            loaded = broken is not None or self.view.error is None
+            view = self._change(text, origin="edit")
+            self._broken = (Broken(view.version, path, value, base)
+                            if view.error is not None and loaded else None)
+            return view
 
     def from_disk(self) -> bool:
         """Read the file again after a change on disk (or of a table law's CSV file): the page
@@ -205,9 +258,12 @@ class Studio:
             return self._change(self.disk_text, origin="reload")
 
     def save(self) -> str:
-        """Write the edited text into the design file, as one step, its permissions kept; the
-        file's path. Refused (:class:`Conflict`) when the file changed on disk since it was
-        loaded."""
+        """Write the edited text into the design file (:func:`~camfab.writing.replace_file`:
+        as one step, through a symbolic link to its target, the file's permissions, owner and
+        group kept, a hard-linked file written in place); the file's path. Refused
+        (:class:`Conflict`) when the file changed on disk since it was loaded; raises
+        :class:`~camfab.errors.OutputError` (its ``errno`` the system's) when it cannot be
+        written, the edits kept."""
         from camfab.design.source import read_design_text
         from camfab.writing import replace_file
 
@@ -222,8 +278,9 @@ class Studio:
                 raise Conflict(f"{self.label}: changed on disk since the studio loaded it; not "
                                "saved (Reload takes the file as it is, dropping the edits)")
             if self.edited:
-                replace_file(self.path, self.text.encode("utf-8"))
+                replace_file(self.path, self.text.encode("utf-8"), self.label)
                 self.disk_text = self.text
+                self._broken = None  # what is saved is the file's own, error and all
             self.notify("state", self._summary("save"))
             return self.label
 
@@ -314,6 +371,35 @@ class Studio:
         """Stop the pending build of the files."""
         if self._timer is not None:
             self._timer.cancel()
+
+
+def _suggested(error: CamfabError, path: str, text: str) -> CamfabError:
+    """*error* (a path the design has not) with the closest path the design has, as the
+    design's loader suggests a key (:func:`~camfab.errors.did_you_mean`)."""
+    from ruamel.yaml.error import YAMLError
+
+    from camfab.errors import did_you_mean
+    from camfab.serve.yamledit import EditError, fields
+
+    if "did you mean" in str(error):
+        return error
+    try:
+        known = [f.path for f in fields(text)]
+    except (YAMLError, RecursionError):
+        return error
+    hint = None if path in known else did_you_mean(path, known)
+    return error if hint is None else EditError(f"{error}; {hint}")
+
+
+def _yaml_line(label: str, exc: BaseException) -> str:
+    """The one line of a text the YAML editor cannot read: ``FILE:LINE: problem``."""
+    mark = getattr(exc, "problem_mark", None) or getattr(exc, "context_mark", None)
+    where = f"{label}:{mark.line + 1}" if mark is not None else label
+    if isinstance(exc, RecursionError):
+        problem = "nested too deeply"
+    else:
+        problem = getattr(exc, "problem", None) or str(exc).split("\n", 1)[0]
+    return f"{where}: not YAML the studio can edit ({problem}); mend it in an editor"
 
 
 def _verify(version: int, design: Design) -> Verified:

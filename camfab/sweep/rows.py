@@ -47,6 +47,8 @@ SIZE_NUMBERS = ("least_size_mm",)
 LEAD = ("variant",)
 #: The status columns, after the varied keys.
 STATUS = ("status", "message")
+#: How a FAIL row's message begins, before the ids of the checks that failed (comma-separated).
+FAILED = "failed: "
 
 Row = tuple[Any, ...]
 
@@ -107,7 +109,7 @@ def row(base: dict[str, Any], file: str, folder: Path, keys: Sequence[tuple[str 
                 f"{type(exc).__name__}: {' '.join(str(exc).split())}", *blank)
     failed = [f.id for f in analysis.findings if not f.ok and f.severity == "error"]
     status = "FAIL" if failed else "OK"
-    message = f"failed: {', '.join(dict.fromkeys(failed))}" if failed else ""
+    message = f"{FAILED}{', '.join(dict.fromkeys(failed))}" if failed else ""
     numbers = key_numbers(analysis)
     if size:
         numbers = (*numbers, least_size(design))

@@ -313,22 +313,41 @@ def _values_text(values: Sequence[Any]) -> str:
 def _build_best(sweep: Plan, rows: Sequence[Row]) -> list[tuple[Path, int]]:
     """The design file of each of *rows* (best first) written as ``best/NAME-vINDEX.yaml``
     and built into ``best/NAME-vINDEX/``: (folder, exit status) each."""
-    import yaml
-
     from camfab.pipeline import build
-    from camfab.sweep.vary import with_values
     from camfab.writing import write_files
 
     folder = sweep.out_dir / "best"
     built = []
     for r in rows:
         index = int(r[0])
-        data = with_values(sweep.data, sweep.variants.keys, sweep.variants.values(index))
         name = f"{sweep.name}-v{index}"
-        data["name"] = name
         text = (f"# variant {index} of the sweep of {sweep.options.design}\n"
-                + yaml.safe_dump(data, sort_keys=False, allow_unicode=True))
+                + _variant_text(sweep, index, name))
         write_files(folder, {f"{name}.yaml": text.encode("utf-8")})
         result = build(folder / f"{name}.yaml", folder / name)
         built.append((folder / name, result.exit_code))
     return built
+
+
+def _variant_text(sweep: Plan, index: int, name: str) -> str:
+    """The design file of variant *index*, named *name*: the sweep's design file as written with
+    only the varied values and the name changed (comments, order and layout kept), as the
+    studio saves an edit; the variant's data written out afresh where the studio's editor
+    (the ``serve`` extra) is not installed or cannot place a value."""
+    from camfab.sweep.vary import dotted, with_values
+
+    values = sweep.variants.values(index)
+    try:
+        from camfab.design.source import read_design_text
+        from camfab.serve.yamledit import EditError, set_value
+
+        text = read_design_text(sweep.options.design)
+        for path, value in zip(sweep.variants.keys, values, strict=True):
+            text = set_value(text, dotted(path), value)
+        return set_value(text, "name", name)
+    except (ImportError, EditError):
+        import yaml
+
+        data = with_values(sweep.data, sweep.variants.keys, values)
+        data["name"] = name
+        return yaml.safe_dump(data, sort_keys=False, allow_unicode=True)
