@@ -177,6 +177,28 @@ def test_bad_design_gives_one_located_line_and_exit_2(
     assert not (tmp_path / "exports").exists()  # nothing written
 
 
+@pytest.mark.parametrize("command", ["check", "build", "size"])
+@pytest.mark.parametrize("name", ["lift.csv", "data/lift.csv"])
+def test_a_table_csv_that_is_a_symbolic_link_loop_is_one_located_line(
+        tmp_path: Path, command: str, name: str) -> None:
+    """A table law's CSV whose path loops through symbolic links (the file itself, or a folder
+    on its way) is refused on its line as every other unreadable CSV is, not an internal
+    error."""
+    text = BASE.replace("law: harmonic}", f"law: table, csv: {name}}}", 1)
+    (tmp_path / "design.yaml").write_text(text)
+    first = tmp_path / name.split("/")[0]
+    first.symlink_to("loop")
+    (tmp_path / "loop").symlink_to(first.name)
+    before = sorted(p.name for p in tmp_path.iterdir())
+    result = run_cli(command, "design.yaml", cwd=tmp_path)
+    assert result.exit_code == 2, result.output
+    message = result.stderr.strip()
+    assert "\n" not in message and "internal error" not in message, message
+    assert message.startswith(f"design.yaml:16: motion[0].csv: cannot read the table: {name} "
+                              "cannot be read ("), message
+    assert sorted(p.name for p in tmp_path.iterdir()) == before  # nothing written
+
+
 def test_missing_file(tmp_path: Path) -> None:
     result = run_cli("build", "nope.yaml", cwd=tmp_path)
     assert result.exit_code == 2

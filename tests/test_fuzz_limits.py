@@ -177,8 +177,8 @@ def _many_segments(data: dict[str, Any], count: int, rising: bool) -> list[dict[
 
 #: What a table law's ``csv`` may name, and how to make it in the case's folder.
 FILE_KINDS = ["dev-zero", "dev-urandom", "dev-null", "fifo", "folder", "absolute", "parent",
-              "symlink-device", "symlink-outside", "huge", "many-rows", "binary", "empty",
-              "good", "missing", "nested-good"]
+              "symlink-device", "symlink-outside", "symlink-loop", "huge", "many-rows", "binary",
+              "empty", "good", "missing", "nested-good"]
 
 
 @st.composite
@@ -227,6 +227,9 @@ def _make_files(kind: str, folder: Path, design_text: str) -> str:
         (folder / "symlink-device.csv").symlink_to("/dev/zero")
     elif kind == "symlink-outside":
         (folder / "symlink-outside.csv").symlink_to(outside)
+    elif kind == "symlink-loop":
+        (folder / "symlink-loop.csv").symlink_to("loop.csv")
+        (folder / "loop.csv").symlink_to("symlink-loop.csv")
     elif kind == "huge":
         with open(folder / "huge.csv", "w") as stream:
             stream.write(_lift_rows(10))

@@ -5,9 +5,11 @@ answer that of the edited file, the file on disk untouched; every request withou
 naming another host, or a POST from another origin, is refused; a save changes the one value
 and keeps every comment and the layout, and is refused once the file changed on disk; the file
 saved in another editor reaches the events stream as the new report, and so does a table law's
-CSV file changed; Ctrl-C stops the server
-with 130 and leaves no temporary file; a missing file, a port in use or a host that is not this
-machine's is one line and status 2."""
+CSV file changed, a change made the moment the address is printed, and a design path made a
+symbolic link (and its file changed); a file that cannot be read (a loop of links, a table's name
+with a NUL) is the design's error and the watch goes on, as it does after a fault of its own;
+Ctrl-C stops the server with 130 and leaves no temporary file; a missing file, a port in use or
+a host that is not this machine's is one line and status 2."""
 
 from __future__ import annotations
 
@@ -284,6 +286,140 @@ def test_a_table_law_s_csv_file_is_watched_too(tmp_path: Path) -> None:
         assert lift == 21
     finally:
         assert served.stop()[0] == 130
+
+
+def _state_when(served: Served, wanted: Any) -> dict[str, Any]:
+    """The page's state once *wanted* (a test of it) holds; the last one at the backstop."""
+    until = time.monotonic() + BACKSTOP
+    while True:
+        state = json.loads(served.request("/api/state")[1])
+        if wanted(state) or time.monotonic() > until:
+            return state
+        time.sleep(0.05)
+
+
+def _replace_by_link(path: Path, target: str) -> None:
+    """*path* made a symbolic link to *target* in one step, as an editor's rename does."""
+    link = path.with_name(path.name + ".link")
+    link.symlink_to(target)
+    os.replace(link, path)
+
+
+def test_a_change_made_at_once_after_the_address_is_printed_is_seen(tmp_path: Path) -> None:
+    served = serve(tmp_path, "demo-inch-flat")
+    try:  # (before the server has started, let alone watched the folder)
+        text = served.file.read_text()
+        served.file.write_text(text.replace("name: demo-inch-flat", "name: early"))
+        state = _state_when(served, lambda state: state["name"] == "early")
+        assert state["name"] == "early" and state["error"] is None, state
+    finally:
+        assert served.stop()[0] == 130
+
+
+def test_a_design_path_that_becomes_a_symbolic_link_is_followed(tmp_path: Path) -> None:
+    served = serve(tmp_path, "demo-inch-flat")
+    text = served.file.read_text()
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    target = elsewhere / "real.yaml"
+    target.write_text(text.replace("name: demo-inch-flat", "name: linked"))
+    try:
+        _replace_by_link(served.file, str(target))
+        state = _state_when(served, lambda state: state["name"] == "linked")
+        assert state["name"] == "linked", state
+        # the file the link leads to, changed: seen too
+        target.write_text(text.replace("name: demo-inch-flat", "name: target-changed"))
+        state = _state_when(served, lambda state: state["name"] == "target-changed")
+        assert state["name"] == "target-changed", state
+    finally:
+        assert served.stop()[0] == 130
+
+
+def test_the_watch_outlives_link_loops_and_tables_it_cannot_read(tmp_path: Path) -> None:
+    """A design path that loops through symbolic links, a table's name with a NUL, a table
+    that loops: each is the design's located error in the page, and the file is still watched
+    (a good design after them is seen, and so is its table changed)."""
+    served = serve(tmp_path, "demo-table")
+    points = "0, 0\n20, 1.2\n40, 6.0\n60, 12.5\n80, 16.8\n100, {}\n"
+    (tmp_path / "lift.csv").write_text(points.format(18))
+    text = re.sub(r"points: \[\[.*\]\]", "csv: lift.csv", served.file.read_text())
+    (tmp_path / "a.yaml").symlink_to("b.yaml")
+    (tmp_path / "b.yaml").symlink_to("a.yaml")
+    (tmp_path / "c.csv").symlink_to("d.csv")
+    (tmp_path / "d.csv").symlink_to("c.csv")
+    try:
+        _replace_by_link(served.file, "a.yaml")
+        state = _state_when(served, lambda state: state["error"] is not None)
+        assert state["error"].startswith("design.yaml: "), state
+        for name, said in (('"lift\\0.csv"', "a path holds no NUL character"),
+                           ("c.csv", "cannot read the table: c.csv cannot be read")):
+            served.file.unlink()
+            served.file.write_text(text.replace("csv: lift.csv", f"csv: {name}"))
+            state = _state_when(served, lambda state, said=said: said in (state["error"] or ""))
+            assert re.match(r"design\.yaml:\d+: motion\[0\]\.csv: ", state["error"]), state
+            assert said in state["error"], state
+        served.file.write_text(text.replace("name: demo-table", "name: recovered"))
+        state = _state_when(served, lambda state: state["name"] == "recovered")
+        assert state["name"] == "recovered" and state["error"] is None, state
+        (tmp_path / "lift.csv").write_text(points.format(21))
+        _state_when(served, lambda state: state["version"] > 0 and state["error"] is None
+                    and json.loads(served.request("/api/report")[1])["segments"][0][
+                        "lift_mm"] == 21)
+        assert json.loads(served.request("/api/report")[1])["segments"][0]["lift_mm"] == 21
+    finally:
+        assert served.stop()[0] == 130
+
+
+def test_a_fault_of_the_watch_is_said_in_the_page_and_the_watch_goes_on(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The watch of a studio (in this process) whose first try fails: the fault is the
+    design's error in the page until the watch runs again, then the design is shown again and
+    a change on disk is seen."""
+    import asyncio
+
+    import watchfiles
+
+    from camfab.serve.studio import Studio
+    from camfab.serve.watch import Watcher
+
+    file = tmp_path / "design.yaml"
+    shutil.copy(DESIGNS / "demo-inch-flat.yaml", file)
+    studio = Studio(file, "design.yaml")
+    tries: list[int] = []
+    awatch = watchfiles.awatch
+
+    def failing_once(*args: Any, **kwargs: Any) -> Any:
+        tries.append(1)
+        if len(tries) == 1:
+            raise RuntimeError("the watch broke")
+        return awatch(*args, **kwargs)
+
+    monkeypatch.setattr(watchfiles, "awatch", failing_once)
+
+    async def until(wanted: Any) -> None:
+        deadline = time.monotonic() + BACKSTOP
+        while not wanted() and time.monotonic() < deadline:
+            await asyncio.sleep(0.05)
+
+    async def scenario() -> None:
+        stopping = asyncio.Event()
+        watching = asyncio.create_task(Watcher(studio).run(stopping))
+        try:
+            await until(lambda: "the watch broke" in (studio.view.error or ""))
+            assert (studio.view.error or "").startswith("design.yaml: "), studio.view
+            await until(lambda: len(tries) > 1 and studio.view.error is None)
+            assert studio.view.error is None and studio.view.name == "demo-inch-flat"
+            file.write_text(file.read_text().replace("name: demo-inch-flat", "name: later"))
+            await until(lambda: studio.view.name == "later")
+            assert studio.view.name == "later"
+        finally:
+            stopping.set()
+            await asyncio.wait_for(watching, BACKSTOP)
+
+    try:
+        asyncio.run(scenario())
+    finally:
+        studio.close()
 
 
 def test_ctrl_c_stops_it_with_130_and_no_temporary_file(disc: Served) -> None:

@@ -4,12 +4,13 @@ path too long) is never read or written.
 
 ezdxf reads its font cache when it is imported, so each case runs camfab in a process of its
 own. A folder of mode 0 stops only a user that is not root (root reads it regardless); the other
-cases fail whoever runs them.
+cases fail whoever runs them. Keeping the user's files out of ezdxf's reach changes neither the
+working directory nor the environment, which the studio's other threads read meanwhile.
 """
 
 from __future__ import annotations
 
-import os
+import ast
 import subprocess
 import sys
 from collections.abc import Iterator
@@ -79,18 +80,50 @@ def test_ezdxfs_font_cache_is_not_the_users(scratch: Path, case: str) -> None:
         assert (scratch / "inspection" / "seed-poly-345-inspection.json").is_file()
 
 
-def test_the_environment_is_restored_after_the_import(tmp_path: Path) -> None:
-    """The variables hidden from ezdxf for the moment of its import, and the working directory,
-    are the user's again after it."""
+#: A child that imports ezdxf through camfab in one thread while another reads the working
+#: directory and the environment as fast as it can: every change it saw, and how many reads.
+_WATCHED_IMPORT = """
+import os, sys, threading
+import numpy  # (imported by the studio long before ezdxf; it sets a variable of its own)
+from camfab.export.ezdxf_import import load_ezdxf
+
+before = (os.getcwd(), dict(os.environ))
+done = threading.Event()
+seen, reads = [], [0]
+
+def watch():
+    while not done.is_set():
+        now = (os.getcwd(), dict(os.environ))
+        reads[0] += 1
+        if now != before and len(seen) < 5:
+            changed = {k for k in set(now[1]) | set(before[1]) if now[1].get(k) != before[1].get(k)}
+            seen.append((now[0], sorted(changed)))
+
+watcher = threading.Thread(target=watch)
+watcher.start()
+try:
+    load_ezdxf()
+finally:
+    done.set()
+    watcher.join()
+after = (os.getcwd(), dict(os.environ)) == before
+print(repr((seen, reads[0], "ezdxf" in sys.modules and after)))
+"""
+
+
+def test_importing_ezdxf_changes_neither_the_working_directory_nor_the_environment(
+        tmp_path: Path) -> None:
+    """Another thread (the studio's) sees the working directory and every variable of the
+    environment unchanged all through ezdxf's import, whatever the user's ezdxf files are; and
+    the variables ezdxf would read its files from are the user's after it."""
     env = {"HOME": str(tmp_path / "home"), "XDG_CACHE_HOME": str(tmp_path / "cache"),
            "XDG_CONFIG_HOME": str(tmp_path / "config"),
            "EZDXF_CONFIG_FILE": str(tmp_path / "ezdxf.ini")}
-    script = ("import os, sys; from camfab.export.ezdxf_import import load_ezdxf; load_ezdxf(); "
-              "print('|'.join(os.environ.get(k, '-') for k in sys.argv[1:]), os.getcwd())")
-    run = subprocess.run([sys.executable, "-c", script, *env, "USERPROFILE"], cwd=tmp_path,
+    (tmp_path / "ezdxf.ini").write_text("garbage\n")
+    run = subprocess.run([sys.executable, "-c", _WATCHED_IMPORT], cwd=tmp_path,
                          env={**child_env(), **env}, capture_output=True, text=True,
                          check=False, timeout=120)
-    assert run.returncode == 0, run.stderr
-    shown, cwd = run.stdout.split()
-    assert shown == "|".join([*env.values(), os.environ.get("USERPROFILE", "-")])
-    assert Path(cwd).resolve() == tmp_path.resolve()
+    assert run.returncode == 0 and run.stderr == "", run.stderr
+    seen, reads, imported = ast.literal_eval(run.stdout)
+    assert imported and reads > 1
+    assert seen == []

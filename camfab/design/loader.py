@@ -6,6 +6,8 @@ and what is wrong. When a file has several problems, the one nearest the top is 
 
 from __future__ import annotations
 
+import errno
+import os
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any, NoReturn
@@ -395,12 +397,17 @@ class _Shaper:
         if "\0" in name:  # no file system takes one; Python refuses it before asking
             self.fail(path, "must be the path of a CSV file, and a path holds no NUL character",
                       got=name)
-        folder = self.doc.folder.resolve()
-        file = (folder / name).resolve()
+        shown = name if name.isprintable() else repr(name)
+        try:
+            folder = self.doc.folder.resolve()
+            file = (folder / name).resolve()
+        except (OSError, RuntimeError) as exc:  # a symbolic link loop: RuntimeError before 3.13
+            problem = (os.strerror(errno.ELOOP) if isinstance(exc, RuntimeError)
+                       else exc.strerror or str(exc))
+            self.fail(path, f"cannot read the table: {shown} cannot be read ({problem})")
         if Path(name).is_absolute() or not file.is_relative_to(folder):
             self.fail(path, "must name a file in the design file's folder or below it (a "
                       "relative path such as 'lift.csv' or 'data/lift.csv')", got=name)
-        shown = name if name.isprintable() else repr(name)
         try:
             return read_bounded(file, MAX_TABLE_BYTES, "a table").decode("utf-8-sig")
         except InputFileError as exc:

@@ -65,6 +65,7 @@ from starlette.types import ASGIApp, Receive, Scope, Send
 
 from camfab.errors import CamfabError, OutputError
 from camfab.serve.studio import Conflict, Studio, Unreadable
+from camfab.serve.watch import Watcher
 from camfab.serve.yamledit import EditError
 
 #: The version of three.js vendored in ``camfab/serve/static/three`` (its README).
@@ -81,9 +82,6 @@ SAVE_STATUS = {errno.EACCES: 403, errno.EPERM: 403, errno.EROFS: 403, errno.ENOS
 #: the server stops (a stop ends the streams within that time).
 KEEPALIVE_SECONDS = 15.0
 POLL_SECONDS = 0.25
-#: How long after a change on disk the watcher waits for more before it reads the file (ms):
-#: an editor's save is often a write and a rename.
-DEBOUNCE_MS = 40
 
 
 class Hub:
@@ -119,8 +117,10 @@ def _static_files() -> dict[str, tuple[Path, str]]:
 
 def studio_app(studio: Studio, token: str, hosts: set[str] | None, hub: Hub) -> ASGIApp:
     """The studio's application for *studio*: its routes behind the token, host and origin
-    checks (:func:`guarded`), the design file watched while it runs."""
+    checks (:func:`guarded`), the design file watched while it runs (from now: a change made
+    before the server starts is seen too)."""
     static = _static_files()
+    watch = Watcher(studio)
 
     async def page(request: Request) -> Response:
         from camfab.export.report_html import page_template
@@ -227,7 +227,7 @@ def studio_app(studio: Studio, token: str, hosts: set[str] | None, hub: Hub) -> 
     @asynccontextmanager
     async def lifespan(app: Starlette) -> AsyncIterator[None]:
         hub.loop = asyncio.get_running_loop()
-        watcher = asyncio.create_task(_watch(studio, hub))
+        watcher = asyncio.create_task(watch.run(hub.stopping))
         try:
             yield
         finally:
@@ -462,29 +462,3 @@ def notifier(hub: Hub) -> Callable[[str, dict[str, Any] | str], None]:
         hub.send(event, data if isinstance(data, str) else json.dumps(data))
 
     return notify
-
-
-async def _watch(studio: Studio, hub: Hub) -> None:
-    """Follow the design file (and its table laws' CSV files) on disk: a change made in any
-    editor is read again (:meth:`Studio.from_disk`). The folders holding them are watched, so
-    an editor that saves by renaming a new file over the old is seen too."""
-    import watchfiles
-
-    while not hub.stopping.is_set():
-        files = {studio.path.resolve(), *studio.tables()}
-        folders = sorted({str(f.parent) for f in files if f.parent.is_dir()})
-
-        def wanted(change: Any, path: str, files: set[Path] = files) -> bool:
-            return Path(path).resolve() in files
-
-        try:
-            async for _ in watchfiles.awatch(*folders, watch_filter=wanted,
-                                             debounce=DEBOUNCE_MS, step=10,
-                                             recursive=False):
-                changed = await run_in_threadpool(studio.from_disk)
-                if not changed:  # the text is the same: a table law's CSV file, perhaps
-                    await run_in_threadpool(studio.tables_changed)
-                if {studio.path.resolve(), *studio.tables()} != files:
-                    break  # the table files named changed: watch the new set
-        except (FileNotFoundError, RuntimeError):
-            await asyncio.sleep(0.2)  # a folder gone for a moment: watch again

@@ -222,8 +222,7 @@ class Studio:
             try:
                 text = read_design_text(self.path)
             except CamfabError as exc:  # gone, or unreadable, for now: say so, keep the rest
-                self.view = View(self.version, self.view.html, str(exc), self.view.name)
-                self.notify("state", self._summary("disk"))
+                self.fault(str(exc))
                 return False
             if self.edited:
                 if text != self.disk_text:
@@ -236,11 +235,18 @@ class Studio:
             self._change(text, origin="disk")
             return True
 
-    def tables_changed(self) -> None:
-        """Analyse the text again after a change of the table laws' CSV files it names."""
+    def fault(self, line: str) -> None:
+        """Show *line* in the design's error's place (the file cannot be read, or watched,
+        for now), the last good picture kept."""
         with self._lock:
-            if self.tables():
-                self._change(self.text, origin="disk")
+            self.view = View(self.version, self.view.html, line, self.view.name)
+            self.notify("state", self._summary("disk"))
+
+    def again(self) -> None:
+        """Analyse the text again: after a change of the table laws' CSV files it names, or
+        once a fault said in its place is over."""
+        with self._lock:
+            self._change(self.text, origin="disk")
 
     def reload(self) -> View:
         """Drop the edits and take the file as it is on disk."""
@@ -311,12 +317,6 @@ class Studio:
         return {"folder": str(folder), "files": [p.name for p in written],
                 "not_produced": list(verified.artifacts.not_produced),
                 "exit_code": verified.analysis.exit_code}
-
-    def tables(self) -> set[Path]:
-        """The table laws' CSV files the text names (resolved from the design's folder)."""
-        from camfab.serve.yamledit import named_files
-
-        return {(self.path.parent / name).resolve() for name in named_files(self.text)}
 
     # --- the files, made and read back -----------------------------------------------------
 
