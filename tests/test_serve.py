@@ -128,6 +128,26 @@ def test_an_edit_answers_the_edited_design_s_report_and_leaves_the_file(
     assert status == 200
 
 
+def test_an_edit_of_an_anchored_value_shows_its_aliases_new_value_at_once(
+        tmp_path: Path) -> None:
+    """The page's answer to an edit carries every value, so an alias of the value edited (the
+    same value, written once) shows its new value without the page being opened again."""
+    served = serve(tmp_path, "seed-10-4")
+    try:
+        first = json.loads(served.request("/api/state")[1])["version"]
+        text = served.file.read_text()
+        served.file.write_text(text.replace("thickness: 10", "thickness: &t 10")
+                               .replace("bore: 10", "bore: *t"))
+        assert _state_when(served, lambda state: state["version"] > first)["error"] is None
+        status, body = served.request("/api/edit?respond=view",
+                                      {"path": "cam.thickness", "value": 12})
+        assert status == 200, body
+        values = {f["path"]: f["value"] for f in json.loads(body)["fields"]}
+        assert values["cam.thickness"] == 12 and values["cam.bore"] == 12
+    finally:
+        served.stop()
+
+
 @pytest.mark.parametrize(("edit", "said"), [
     ({"path": "cam.nowhere.x", "value": 1}, "cam.nowhere.x: the design has no cam.nowhere"),
     ({"path": "cam", "value": 1}, "cam: holds a mapping, not a value"),

@@ -150,17 +150,15 @@ def studio_app(studio: Studio, token: str, hosts: set[str] | None, hub: Hub) -> 
             return _problem(400, 'the body must be {"path": ..., "value": ...}')
         path, value = body["path"], _edit_value(body["value"])
         started = time.perf_counter()
-        undone = studio.broken  # an edit that broke the design, taken back by this one
         try:
             view = await run_in_threadpool(studio.edit, path, value)
         except EditError as exc:
             return _problem(400, str(exc))
         except Unreadable as exc:
             return _problem(409, str(exc))
-        if request.query_params.get("respond") == "view":  # the page's: the fields it has,
-            spent = (time.perf_counter() - started) * 1e3  # but one taken back
-            fields = undone is not None and undone["path"] != path
-            return _state(studio, studio.state(fields=fields),
+        if request.query_params.get("respond") == "view":  # the page's, with every value:
+            spent = (time.perf_counter() - started) * 1e3  # an alias of the one edited, or
+            return _state(studio, studio.state(),          # an edit taken back, changes others
                           headers={"Server-Timing": f"edit;dur={spent:.1f}"})
         if view.error is not None:
             return JSONResponse({"error": view.error, "edit": studio.broken}, status_code=422)
