@@ -359,9 +359,12 @@ def test_a_mistyped_path_gets_the_closest_one(tmp_path: Path) -> None:
     shutil.copy(DESIGNS / "demo-inch-flat.yaml", file)
     studio = Studio(file, "design.yaml")
     try:
-        for path in ("cam.base_radus", "cams.base_radius"):
-            with pytest.raises(EditError, match=r"did you mean 'cam\.base_radius'\?"):
-                studio.edit(path, 1.5)
+        # a mapping the design has not: refused, with the path it has
+        with pytest.raises(EditError, match=r"did you mean 'cam\.base_radius'\?"):
+            studio.edit("cams.base_radius", 1.5)
+        # a key its mapping has not is added, and the design's loader names the key it knows
+        view = studio.edit("cam.base_radus", 1.5)
+        assert view.error is not None and "did you mean 'base_radius'?" in view.error
     finally:
         studio.close()
 

@@ -193,18 +193,18 @@ class Studio:
         Unreadable
             The text is not YAML the editor can read: the design's own located line.
         """
-        from ruamel.yaml.error import YAMLError
-
-        from camfab.serve.yamledit import EditError, set_value
+        from camfab.serve.yamledit import EditError, NotYaml, set_value
 
         with self._lock:
             broken = self._broken if self.broken is not None else None
             base = self.text if broken is None else broken.before
             try:
                 text = set_value(base, path, value)
+            except NotYaml as exc:
+                raise Unreadable(self.view.error or _yaml_line(self.label, exc)) from None
             except EditError as exc:
                 raise _suggested(exc, path, base) from None
-            except (YAMLError, RecursionError) as exc:
+            except RecursionError as exc:
                 raise Unreadable(self.view.error or _yaml_line(self.label, exc)) from None
             loaded = broken is not None or self.view.error is None
             view = self._change(text, origin="edit")
@@ -376,8 +376,6 @@ class Studio:
 def _suggested(error: CamfabError, path: str, text: str) -> CamfabError:
     """*error* (a path the design has not) with the closest path the design has, as the
     design's loader suggests a key (:func:`~camfab.errors.did_you_mean`)."""
-    from ruamel.yaml.error import YAMLError
-
     from camfab.errors import did_you_mean
     from camfab.serve.yamledit import EditError, fields
 
@@ -385,7 +383,7 @@ def _suggested(error: CamfabError, path: str, text: str) -> CamfabError:
         return error
     try:
         known = [f.path for f in fields(text)]
-    except (YAMLError, RecursionError):
+    except (EditError, RecursionError):
         return error
     hint = None if path in known else did_you_mean(path, known)
     return error if hint is None else EditError(f"{error}; {hint}")

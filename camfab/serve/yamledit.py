@@ -65,6 +65,10 @@ class EditError(CamfabError, ValueError):
     not a number, a word or true/false."""
 
 
+class NotYaml(EditError):
+    """The text is not one YAML document the editor can read (the message says where)."""
+
+
 class Node:
     """One value of the YAML text. *kind* is ``scalar``, ``map``, ``seq`` or ``alias``;
     *start* and *end* are character offsets of the value itself in the text (after its anchor
@@ -119,7 +123,7 @@ def document(text: str) -> Document:
         else:
             _kept.move_to_end(text)
         if isinstance(found, EditError):
-            raise EditError(str(found))
+            raise type(found)(str(found))
         return found
 
 
@@ -160,7 +164,7 @@ def compose(text: str, pure: bool = False) -> Document:
             elif cls is alias:
                 target = anchors.get(event.anchor)
                 if target is None or any(target is o for o in open_):
-                    raise EditError(f"line {event.start_mark.line + 1}: the alias *{event.anchor}"
+                    raise NotYaml(f"line {event.start_mark.line + 1}: the alias *{event.anchor}"
                                     " names no anchor before it")
                 node = Node("alias", start, event.end_mark.index + shift, event.anchor,
                             target=target)
@@ -178,7 +182,7 @@ def compose(text: str, pure: bool = False) -> Document:
             elif cls is yaml.DocumentStartEvent:
                 documents += 1
                 if documents > 1:
-                    raise EditError(f"line {event.start_mark.line + 1}: a second YAML document "
+                    raise NotYaml(f"line {event.start_mark.line + 1}: a second YAML document "
                                     "(a design file is one)")
                 continue
             else:
@@ -202,7 +206,7 @@ def compose(text: str, pure: bool = False) -> Document:
         mark = getattr(exc, "problem_mark", None)
         where = f"line {mark.line + 1}: " if mark is not None else ""
         problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
-        raise EditError(f"{where}not YAML ({problem})") from None
+        raise NotYaml(f"{where}not YAML ({problem})") from None
     return Document(root, nodes)
 
 
