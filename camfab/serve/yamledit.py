@@ -1,7 +1,9 @@
 """The design file as the studio edits it: the YAML text with the one value changed in place.
 
-The text is composed into nodes that know where each value starts and ends (libyaml's parser
-through PyYAML, PyYAML's own without it: the YAML 1.1 camfab's design reader reads), and the
+The text is read as a stream of parse events by ruamel.yaml (its C parser when ruamel.yaml.clib
+is installed, its pure-Python parser otherwise), as YAML 1.1, and composed into nodes that know
+where each value starts and ends; the scalars are resolved by the YAML 1.1 rules of PyYAML,
+camfab's design reader, so that the editor reads each value as the design loader does. The
 composed document is kept, keyed by the text (:func:`document`). An edit writes the new value
 over the old one's characters and leaves every other character as it was — the comments, the
 key order, the quotes, the anchors, the flow maps of the motion program and their alignment,
@@ -51,6 +53,8 @@ _PROPERTIES = re.compile(r"(?:&[^\s,\[\]{}]+|!<[^>]*>|![^\s,\[\]{}]*|\s+|#[^\r\n
 #: A block scalar's indicator: ``|`` or ``>``, its indentation and chomping.
 _INDICATOR = re.compile(r"[|>][0-9+-]*")
 _SPACES = re.compile(r"[ \t]*")
+#: Spaces, line breaks and comments between two signs.
+_GAP = re.compile(r"(?:\s+|#[^\r\n]*)*")
 
 _INT = "tag:yaml.org,2002:int"
 _FLOAT = "tag:yaml.org,2002:float"
@@ -135,32 +139,43 @@ def _keep(text: str, found: Document | EditError) -> None:
 
 
 def compose(text: str, pure: bool = False) -> Document:
-    """The nodes of YAML *text*, read by libyaml (by PyYAML's own parser with *pure*, or
-    without libyaml); raises EditError for a text that is not one YAML document."""
-    import yaml
+    """The nodes of YAML *text*, read by ruamel.yaml's parser as YAML 1.1 (its C parser when
+    ruamel.yaml.clib is installed, its own pure-Python one with *pure* or without it); raises
+    EditError for a text that is not one YAML document."""
+    from ruamel.yaml import YAML, events
+    from ruamel.yaml.error import YAMLError
+    from ruamel.yaml.parser import Parser
 
-    loader = yaml.SafeLoader if pure else getattr(yaml, "CSafeLoader", yaml.SafeLoader)
+    reader = YAML(typ="safe", pure=pure)
+    reader.version = (1, 1)  # the YAML camfab's design reader (PyYAML) reads
     # libyaml does not count a byte-order mark in its offsets
-    shift = 1 if loader is not yaml.SafeLoader and text.startswith("\ufeff") else 0
+    shift = 1 if reader.Parser is not Parser and text.startswith("\ufeff") else 0
     nodes: list[Node] = []
     anchors: dict[str, Node] = {}
     open_: list[Node] = []
     keys: list[Node | None] = []
     root: Node | None = None
     documents = 0
-    scalar, alias, mapping, sequence = (yaml.ScalarEvent, yaml.AliasEvent, yaml.MappingStartEvent,
-                                        yaml.SequenceStartEvent)
-    ends = (yaml.MappingEndEvent, yaml.SequenceEndEvent)
+    last_end = 0  # where the event before ended
+    scalar, alias, mapping, sequence = (events.ScalarEvent, events.AliasEvent,
+                                        events.MappingStartEvent, events.SequenceStartEvent)
+    ends = (events.MappingEndEvent, events.SequenceEndEvent)
     try:
-        for event in yaml.parse(text, Loader=loader):
+        for event in reader.parse(text):
             cls = type(event)
             start = event.start_mark.index + shift
+            after, last_end = last_end, event.end_mark.index + shift
+            if cls is scalar or cls is mapping or cls is sequence:
+                tag = None if event.tag is None else str(event.tag)
             if cls is scalar:
                 end = event.end_mark.index + shift
-                if event.anchor is not None or event.tag is not None:
+                if event.anchor is not None or tag is not None:
                     start = min(_PROPERTIES.match(text, start).end(), end)
+                elif not event.value and not event.style and open_ and keys[-1] is not None \
+                        and open_[-1].style is None:
+                    start = end = _after_colon(text, after, start)
                 node = Node("scalar", start, _block_end(text, start, end, event.style),
-                            event.value, event.style or None, event.anchor, event.tag)
+                            event.value, event.style or None, event.anchor, tag)
             elif cls is alias:
                 target = anchors.get(event.anchor)
                 if target is None or any(target is o for o in open_):
@@ -169,17 +184,17 @@ def compose(text: str, pure: bool = False) -> Document:
                 node = Node("alias", start, event.end_mark.index + shift, event.anchor,
                             target=target)
             elif cls is mapping or cls is sequence:
-                if event.anchor is not None or event.tag is not None:
+                if event.anchor is not None or tag is not None:
                     start = _PROPERTIES.match(text, start).end()
                 node = Node("map" if cls is mapping else "seq", start, None, [],
-                            "flow" if event.flow_style else None, event.anchor, event.tag)
+                            "flow" if event.flow_style else None, event.anchor, tag)
             elif cls in ends:
                 done = open_.pop()
                 keys.pop()
                 if done.style == "flow":
                     done.end = event.end_mark.index + shift
                 continue
-            elif cls is yaml.DocumentStartEvent:
+            elif cls is events.DocumentStartEvent:
                 documents += 1
                 if documents > 1:
                     raise NotYaml(f"line {event.start_mark.line + 1}: a second YAML document "
@@ -202,12 +217,23 @@ def compose(text: str, pure: bool = False) -> Document:
             if node.kind in ("map", "seq"):
                 open_.append(node)
                 keys.append(None)
-    except yaml.YAMLError as exc:
+    except YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
         where = f"line {mark.line + 1}: " if mark is not None else ""
         problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
         raise NotYaml(f"{where}not YAML ({problem})") from None
     return Document(root, nodes)
+
+
+def _after_colon(text: str, after: int, at: int) -> int:
+    """Where a block mapping's empty value (a null) is: just after its key's colon, the first
+    sign after *after* (the key's end), as libyaml and PyYAML place it; *at* (ruamel's pure
+    parser places it at the next key) when there is no colon before it."""
+    colon = _GAP.match(text, after, at).end()
+    if colon < at and text[colon] == ":" and text[colon + 1:colon + 2] in ("", " ", "\t", "\r",
+                                                                            "\n"):
+        return colon + 1
+    return at
 
 
 def _block_end(text: str, start: int, end: int, style: str | None) -> int:
