@@ -51,4 +51,19 @@ def main() -> None:
             sys.stderr.write(failure_line(failed) + "\n")
             code = CANNOT_WRITE
     sys.stdout.flush()
+    if RECEIVED:
+        _stopped(code)
     sys.exit(code)
+
+
+def _stopped(code: int | None) -> None:
+    """End a process stopped by a signal at once when threads of its own are still at work
+    (the studio's build of a version): its command has cleaned up and said its line, and the
+    interpreter's shutdown would tear those threads' native objects down under them, which
+    manifold3d's bindings report as leaks in a hundred lines on stderr."""
+    import os
+    import threading
+
+    if threading.active_count() > 1:
+        sys.stderr.flush()
+        os._exit(code if isinstance(code, int) else 1)

@@ -491,3 +491,23 @@ def test_a_loopback_server_takes_only_loopback_names(tmp_path: Path) -> None:
     finally:
         code, err = served.stop()
     assert code == 130 and err == "camfab: interrupted\n"
+
+
+def test_ctrl_c_while_a_version_is_built_says_one_line(tmp_path: Path) -> None:
+    """Stopped while a thread still builds the verified part (manifold3d at work on a
+    globoid's groove), the studio says its one line and nothing else: no native objects torn
+    down under a running thread, which manifold3d's bindings report as leaks."""
+    served = serve(tmp_path, "demo-globoidal-convex")
+    try:
+        version = json.loads(served.request("/api/state")[1])["version"]
+        asking = subprocess.Popen(  # the verified report, asked for and not waited on
+            [sys.executable, "-c", "import sys, urllib.request; urllib.request.urlopen("
+             "urllib.request.Request(sys.argv[1], headers={'X-Camfab-Token': sys.argv[2]}), "
+             "timeout=600)", f"{served.base}/api/verified?version={version}", served.token],
+            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        time.sleep(1.0)  # the build under way
+    finally:
+        code, err = served.stop()
+        asking.kill()
+        asking.wait()
+    assert code == 130 and err == "camfab: interrupted\n", err[:2000]
