@@ -14,6 +14,8 @@ stop still comes within the block's time (a fraction of a second) and ends camfa
 from __future__ import annotations
 
 import os
+import signal
+import threading
 from collections.abc import Iterator
 from contextlib import contextmanager
 from typing import Any
@@ -44,8 +46,6 @@ _PENDING: list[int] = []
 def deferred() -> Iterator[None]:
     """Put off the stopping signals until the block ends; then the first one noted is raised
     again (by :func:`signal.raise_signal`, so its handler raises at the block's end)."""
-    import signal
-
     _DEPTH.append(1)
     try:
         yield
@@ -81,9 +81,11 @@ def defer(signum: int) -> bool:
 def raise_interrupted(signum: int, frame: Any) -> None:
     """The handler of the stopping signals: note *signum*, then raise KeyboardInterrupt (Ctrl-C)
     or :class:`Interrupted` where the program is, unless it is put off (:func:`deferred`) or
-    the program is where Python would print and drop the exception."""
-    import signal
+    the program is where Python would print and drop the exception.
 
+    It imports nothing: a signal can come inside the import system's lock (between its note
+    of the thread that waits and the removal of that note), and an import run there by the
+    handler takes and drops the note first, so the lock's own cleanup fails with a KeyError."""
     if signum not in RECEIVED:
         RECEIVED.append(signum)
     if defer(signum):  # raised again where the code that must not be broken into ends
@@ -91,8 +93,6 @@ def raise_interrupted(signum: int, frame: Any) -> None:
     if _ignores_exceptions(frame):
         # raised here it would be printed as "Exception ignored" and lost: deliver the signal
         # again in a moment, when the main thread is back in ordinary code
-        import threading
-
         timer = threading.Timer(0.02, signal.pthread_kill,
                                 (threading.main_thread().ident, signum))
         timer.daemon = True
@@ -117,8 +117,6 @@ def _ignores_exceptions(frame: Any) -> bool:
 def catch() -> None:
     """Ctrl-C, SIGTERM and SIGHUP raise where the program is (unless they are ignored, as in a
     shell's background job) and are noted in :data:`RECEIVED`."""
-    import signal
-
     if signal.getsignal(signal.SIGINT) in (signal.default_int_handler, raise_interrupted):
         signal.signal(signal.SIGINT, raise_interrupted)
     for name in STOPPING[1:]:
@@ -130,8 +128,6 @@ def catch() -> None:
 
 def stop_line(signum: int) -> str:
     """The one line a stop by *signum* prints."""
-    import signal
-
     return ("camfab: interrupted" if signum == signal.SIGINT else
             f"camfab: stopped by signal {signum}")
 
@@ -147,8 +143,6 @@ def signals_held() -> Iterator[None]:
     (:func:`deferred`): a signal blocked here goes to another thread of the process that does
     not block it (numpy's BLAS, manifold3d's workers), whose handler has this thread run
     Python's handler of it all the same. Only this thread's mask changes: never a handler."""
-    import signal
-
     with deferred():
         if not hasattr(signal, "pthread_sigmask"):
             yield
@@ -172,8 +166,6 @@ def hold_to_the_end() -> int | None:
     interpreter's shutdown keeps, in every thread: a thread of a native library that does not
     block them would otherwise die of one, and the process with it)."""
     _DEPTH.append(1)  # first: a stop from here on is noted, not raised
-    import signal
-
     held = {getattr(signal, name) for name in STOPPING if hasattr(signal, name)}
     if hasattr(signal, "pthread_sigmask"):
         signal.pthread_sigmask(signal.SIG_BLOCK, held)

@@ -279,3 +279,28 @@ def test_builds_stopped_while_they_write_leave_a_whole_set(tmp_path: Path) -> No
             assert (code, lines) == (128 + signum, [LINES[signum]]), (trial, lines)
             seen.add("old" if files == sets["old"] else "new")
     assert "old" in seen
+
+
+def test_the_handler_imports_nothing_inside_the_import_systems_lock() -> None:
+    """A stop can come while the import system waits for a module's lock; the handler then
+    delivers it again a moment later. An import of its own there (a module not yet loaded)
+    would take and drop the lock's note of the waiting thread first, and the lock's cleanup
+    would fail with a KeyError traceback instead of camfab's one line."""
+    script = ("import builtins, signal, sys, time, types\n"
+              "from camfab import stopping\n"
+              "signal.signal(signal.SIGTERM, lambda *_: print('again', flush=True))\n"
+              "code = types.SimpleNamespace(co_filename='<frozen importlib._bootstrap>',\n"
+              "                             co_name='acquire')\n"
+              "imported = []\n"
+              "real = builtins.__import__\n"
+              "def spy(name, *args, **kwargs):\n"
+              "    imported.append(name)\n"
+              "    return real(name, *args, **kwargs)\n"
+              "builtins.__import__ = spy\n"
+              "stopping.raise_interrupted(signal.SIGTERM, types.SimpleNamespace(f_code=code))\n"
+              "builtins.__import__ = real\n"
+              "time.sleep(0.5)\n"
+              "print(imported, flush=True)\n")
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
+                          env=child_env(), timeout=120)
+    assert (done.returncode, done.stdout, done.stderr) == (0, "again\n[]\n", "")
