@@ -30,9 +30,9 @@ if TYPE_CHECKING:
 
 #: Every output a design may ask for, in the order files are listed.
 ALL_OUTPUTS = ("dxf", "svg", "stl", "report", "csv")
-#: The outputs made only when asked for (``outputs`` or ``camfab build --step``): STEP needs the
-#: optional extra.
-ASKED_ONLY = ("step",)
+#: The outputs made only when asked for (``outputs``, ``camfab build --step`` or ``--gcode``):
+#: STEP needs the optional extra, a machining program the tool and feeds.
+ASKED_ONLY = ("step", "gcode")
 
 
 def load_design(path: str | Path) -> Design:
@@ -214,6 +214,16 @@ def verify_exports(analysis: Analysis, requested: tuple[str, ...]) -> tuple[Anal
             files = {k: v for k, v in files.items() if k != "step"}
             not_made = {**not_made, "step": "the solid OpenCASCADE made of the part did not "
                         "read back as the part (see the verification check)"}
+    if "gcode" in requested:
+        from camfab.machining import machine
+
+        machined = machine(analysis, part)
+        analysis = replace(analysis, machining=machined.setups,
+                           findings=[*analysis.findings, *machined.findings])
+        if machined.withheld is not None:
+            not_made = {**not_made, "gcode": machined.withheld}
+        else:
+            files = {**files, "gcode": machined.files}
     withheld = {k: v for k, v in {**part.withheld, **not_made}.items() if k in requested}
     if withheld:  # the report says what was not made, and why
         check = replace(check, withheld=tuple(withheld.items()))

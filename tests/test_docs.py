@@ -31,11 +31,9 @@ from camfab.design.cam_types import CAM_TYPES
 from camfab.design.model import Design, Segment
 from camfab.pipeline import load_design
 
-from .conftest import need_step_extra
+from .conftest import need_step_extra, run_cli
 from .limited_child import run_limited
 from .page_commands import Fence, changed_rows, commands, excerpt_rows, fences, output_problem, play
-
-from .conftest import run_cli
 
 ROOT = Path(__file__).resolve().parents[1]
 HOOKS = ROOT / "docs" / "hooks.py"

@@ -18,6 +18,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("camfab.geometry",),
     ("camfab.analysis",),
     ("camfab.export",),
+    ("camfab.machining",),
     ("camfab.kinds",),
     ("camfab.pipeline", "camfab.report_text", "camfab.sizing_text"),
     ("camfab.inspect",),

@@ -15,6 +15,7 @@ if TYPE_CHECKING:
     from camfab.analysis.at_speed import AtSpeed
     from camfab.analysis.contact import Contact
     from camfab.analysis.dynamics import Dynamics
+    from camfab.analysis.setup_sheet import Setup
     from camfab.analysis.verification import Verification
     from camfab.arrays import Array
     from camfab.geometry.disc_geometry import LiftCheck
@@ -124,6 +125,9 @@ class Analysis:
     #: The cam at its speed: the elastic follower train, the contact stress and the roller's
     #: life (:mod:`camfab.analysis.at_speed`).
     at_speed: AtSpeed | None = None
+    #: The setup sheets of the machining programs written (:mod:`camfab.machining`), one per
+    #: program file; empty when no program was asked for.
+    machining: tuple[Setup, ...] = ()
 
     def __getattr__(self, name: str) -> Any:
         if name.startswith("_") or name == "result":  # (copy and pickle look for these)

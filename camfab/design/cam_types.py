@@ -98,6 +98,10 @@ class CamTypeSpec:
     #: The export tolerance (mm) when the design gives none, where the type's own differs from
     #: the design file's (:data:`camfab.design.model.DEFAULT_TOLERANCE_MM`).
     default_tolerance: float | None = None
+    #: How its machining program cuts it (:mod:`camfab.machining`): a plate milled round its
+    #: contours on three axes, a drum's groove on a rotary A axis, a globoid's on A and a
+    #: swinging B.
+    machining: Literal["plate", "drum", "globoid"] = "plate"
 
     def hint_for(self, follower: str) -> str | None:
         """Why this type refuses the *follower* type, where the list alone does not say."""
@@ -463,7 +467,8 @@ CAM_TYPES: dict[str, CamTypeSpec] = {spec.name: spec for spec in (
           (*_TURNING, "radius", "length", "groove_depth", "groove_start", "bore"),
           ("radius", "length", "groove_depth"), ("roller",), **_GROOVE_KEYS,
           translating_only=True, bore_within=None, keyway_within="radius",
-          auto_keys=("cam.radius",), two_sided=True, contact_extent="groove_depth"),
+          auto_keys=("cam.radius",), two_sided=True, contact_extent="groove_depth",
+          machining="drum"),
     _CircularArc("circular-arc", "camfab.kinds.shaped",
                  (*_TURNING, "base_radius", "lift", "lift_angle", "nose_radius", "flank_angle",
                   "top_dwell", *_BLANK), ("base_radius", "lift", "lift_angle"), _ANY_FOLLOWER,
@@ -488,7 +493,8 @@ CAM_TYPES: dict[str, CamTypeSpec] = {spec.name: spec for spec in (
                oscillating_keys=("groove_clearance", "roller_length", "rest_angle"),
                translating_keys=("groove_clearance", "roller_length", "rest_angle"),
                positive_drive=True, two_sided=True, contact_extent=None, bore_within=None,
-               keyway_within=None, default_tolerance=GLOBOID_TOLERANCE_MM),
+               keyway_within=None, default_tolerance=GLOBOID_TOLERANCE_MM,
+               machining="globoid"),
     _Linear("linear", "camfab.kinds.linear", ("type", "speed_rpm", "stroke", "base_height",
                                               "thickness"), ("stroke", "base_height"),
             ("roller", "knife"), span="travel", translating_only=True, bore_within=None,

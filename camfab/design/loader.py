@@ -24,13 +24,16 @@ from camfab.errors import DesignError, Location, did_you_mean
 SEGMENT_KINDS = {"rise": "rise", "return": "return", "fall": "return", "dwell": "dwell"}
 
 _TOP = ("name", "description", "units", "cam", "follower", "motion", "spring", "limits",
-        "materials", "manufacturing", "inspection", "sizing", "outputs", "table_step")
+        "materials", "manufacturing", "inspection", "machining", "sizing", "outputs", "table_step")
 _SECTIONS: dict[str, tuple[str, ...]] = {
     "spring": ("rate", "preload", "initial_compression", "gravity", "damping", "external_load"),
     "limits": ("pressure_angle", "min_radius_of_curvature", "contact_stress", "roller_life"),
     "materials": ("cam", "follower"),
     "manufacturing": ("tolerance", "kerf", "cutter_radius"),
     "inspection": ("tolerance",),
+    "machining": ("tool_diameter", "flutes", "cut_length", "spindle_rpm", "feed", "plunge_feed",
+                  "step_down", "finish_allowance", "safe_z", "direction", "compensation",
+                  "dialect"),
     "sizing": ("round_to",),
 }
 #: The keys a design may leave to camfab with ``auto`` (``section.key``), each where its cam

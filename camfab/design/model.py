@@ -17,9 +17,7 @@ from functools import cached_property
 from typing import TYPE_CHECKING, Annotated, Any, Literal
 
 from pydantic import (
-    BaseModel,
     BeforeValidator,
-    ConfigDict,
     Discriminator,
     Field,
     Tag,
@@ -27,10 +25,26 @@ from pydantic import (
     field_validator,
     model_validator,
 )
-from pydantic_core import PydanticCustomError
 
 from camfab.design import units as U
 from camfab.design.cam_types import CAM_TYPES, CamTypeSpec
+from camfab.design.fields import (
+    Angle,
+    Frozen,
+    Length,
+    Lift,
+    NonNegativeAngle,
+    NonNegativeLength,
+    PositiveAngle,
+    PositiveLength,
+    as_kind,
+    carried,
+    context,
+    converted,
+    lift_kind,
+    problem,
+)
+from camfab.design.machining import Machining
 from camfab.errors import DesignError, did_you_mean
 
 if TYPE_CHECKING:
@@ -40,71 +54,7 @@ if TYPE_CHECKING:
 #: The ``cam.type`` names, from the registry of cam types.
 CamTypeName = Literal[tuple(CAM_TYPES)]  # type: ignore[valid-type]
 FollowerType = Literal["knife", "roller", "flat", "mushroom"]
-OutputName = Literal["dxf", "svg", "stl", "report", "csv", "step"]
-
-
-def _ctx(info: ValidationInfo) -> dict[str, Any]:
-    return info.context or {}
-
-
-def _convert(value: Any, kind: U.Kind, info: ValidationInfo) -> float:
-    """*value* in *kind*'s internal unit in this design's units; errors carried through pydantic."""
-    try:
-        return U.convert(value, kind, _ctx(info).get("units", "mm"))
-    except DesignError as exc:
-        raise _custom(exc) from None
-
-
-def _lift_kind(info: ValidationInfo) -> U.Kind:
-    """A lift is a length for translating followers and an angle of swing for oscillating ones."""
-    return U.ANGLE if _ctx(info).get("oscillating") else U.LENGTH
-
-
-def _as(kind: U.Kind) -> Any:
-    """A before-validator converting a design value of *kind* to internal units."""
-
-    def convert(value: Any, info: ValidationInfo) -> Any:
-        return None if value is None else _convert(value, kind, info)
-
-    convert.kind = kind  # type: ignore[attr-defined]  # what the report converts back
-    return BeforeValidator(convert)
-
-
-def _lift(value: Any, info: ValidationInfo) -> Any:
-    """A lift, converted as its follower needs (see :func:`_lift_kind`)."""
-    return None if value is None else _convert(value, _lift_kind(info), info)
-
-
-_lift.kind = "lift"  # type: ignore[attr-defined]  # a length or an angle, by the follower
-
-
-def _problem(problem: str, allowed: Any = None, hint: str | None = None,
-             kind: str = "") -> PydanticCustomError:
-    """Carry a camfab message through pydantic so the loader can rebuild it with a location
-    (*kind* as :class:`~camfab.errors.DesignError` has it)."""
-    return PydanticCustomError(
-        "camfab", "{problem}", {"problem": problem, "allowed": allowed, "hint": hint,
-                                "kind": kind}
-    )
-
-
-def _custom(exc: DesignError) -> PydanticCustomError:
-    return _problem(exc.problem, exc.allowed, exc.hint, exc.kind)
-
-
-Length = Annotated[float, _as(U.LENGTH)]
-PositiveLength = Annotated[float, _as(U.LENGTH), Field(gt=0)]
-NonNegativeLength = Annotated[float, _as(U.LENGTH), Field(ge=0)]
-PositiveAngle = Annotated[float, _as(U.ANGLE), Field(gt=0)]
-NonNegativeAngle = Annotated[float, _as(U.ANGLE), Field(ge=0)]
-Angle = Annotated[float, _as(U.ANGLE)]
-Lift = Annotated[float, BeforeValidator(_lift), Field(gt=0)]
-
-
-class Frozen(BaseModel):
-    """Base of the design models: immutable, unknown keys rejected, no silent coercion of text."""
-
-    model_config = ConfigDict(frozen=True, extra="forbid", strict=False, validate_default=False)
+OutputName = Literal["dxf", "svg", "stl", "report", "csv", "step", "gcode"]
 
 
 class Keyway(Frozen):
@@ -127,7 +77,7 @@ class Cam(Frozen):
 
     type: CamTypeName
     rotation: Literal["ccw", "cw"] = "ccw"
-    speed_rpm: Annotated[float, _as(U.SPEED), Field(gt=0)] | None = None
+    speed_rpm: Annotated[float, as_kind(U.SPEED), Field(gt=0)] | None = None
     base_radius: PositiveLength | None = None
     thickness: PositiveLength | None = None
     bore: PositiveLength | None = None
@@ -182,10 +132,10 @@ class Follower(Frozen):
     arm_angle: PositiveAngle | None = None
     roller_length: PositiveLength | None = None
     rest_angle: Angle | None = None
-    mass: Annotated[float, _as(U.MASS), Field(gt=0)] | None = None
-    stiffness: Annotated[float, _as(U.RATE), Field(gt=0)] | None = None
+    mass: Annotated[float, as_kind(U.MASS), Field(gt=0)] | None = None
+    stiffness: Annotated[float, as_kind(U.RATE), Field(gt=0)] | None = None
     damping_ratio: Annotated[float, Field(ge=0)] | None = None
-    roller_load_rating: Annotated[float, _as(U.FORCE), Field(gt=0)] | None = None
+    roller_load_rating: Annotated[float, as_kind(U.FORCE), Field(gt=0)] | None = None
     roller_bearing: Literal["needle", "ball"] | None = None
 
     @field_validator("type", mode="before")
@@ -239,10 +189,10 @@ class Conditions(Frozen):
             return None if value is None else "match"
         order = {"velocity": 1, "acceleration": 2, "jerk": 3}[info.field_name or "velocity"]
         try:
-            return U.convert(value, U.angle_rate(order, _lift_kind(info)),
-                             _ctx(info).get("units", "mm"))
+            return U.convert(value, U.angle_rate(order, lift_kind(info)),
+                             context(info).get("units", "mm"))
         except DesignError as exc:
-            raise _custom(DesignError(exc.problem + " or 'match'", allowed=exc.allowed)) from None
+            raise carried(DesignError(exc.problem + " or 'match'", allowed=exc.allowed)) from None
 
     def items(self) -> list[tuple[int, float | str]]:
         """(order, value) for each condition given."""
@@ -253,8 +203,8 @@ class Conditions(Frozen):
 def _point(value: Any, info: ValidationInfo) -> Any:
     """A table/polynomial point ``[angle, displacement]`` -> (radians, mm or radians)."""
     if not isinstance(value, (list, tuple)) or len(value) != 2:
-        raise _problem("must be a pair [angle, displacement]")
-    return (_convert(value[0], U.ANGLE, info), _convert(value[1], _lift_kind(info), info))
+        raise problem("must be a pair [angle, displacement]")
+    return (converted(value[0], U.ANGLE, info), converted(value[1], lift_kind(info), info))
 
 
 Point = Annotated[tuple[float, float], BeforeValidator(_point)]
@@ -293,10 +243,10 @@ class Segment(Frozen):
         from camfab.motion.laws import ALIASES, LAW_NAMES, canonical_law_name
 
         if not isinstance(value, str):
-            raise _problem("must be a law name", LAW_NAMES, kind="shape")
+            raise problem("must be a law name", LAW_NAMES, kind="shape")
         name = canonical_law_name(value)
         if name is None:
-            raise _problem("unknown motion law", LAW_NAMES,
+            raise problem("unknown motion law", LAW_NAMES,
                            did_you_mean(value, [*LAW_NAMES, *ALIASES]), kind="shape")
         return name
 
@@ -305,18 +255,18 @@ class Spring(Frozen):
     """The return spring of a force-closed cam: ``rate`` N/mm, ``preload`` N at zero lift (or
     ``initial_compression`` mm), ``damping`` N·s/m, ``external_load`` N toward the cam."""
 
-    rate: Annotated[float, _as(U.RATE), Field(gt=0)]
-    preload: Annotated[float, _as(U.FORCE), Field(ge=0)] | None = None
+    rate: Annotated[float, as_kind(U.RATE), Field(gt=0)]
+    preload: Annotated[float, as_kind(U.FORCE), Field(ge=0)] | None = None
     initial_compression: NonNegativeLength | None = None
     gravity: bool = False
-    damping: Annotated[float, _as(U.DAMPING), Field(ge=0)] = 0.0
-    external_load: Annotated[float, _as(U.FORCE)] = 0.0
+    damping: Annotated[float, as_kind(U.DAMPING), Field(ge=0)] = 0.0
+    external_load: Annotated[float, as_kind(U.FORCE)] = 0.0
 
     @field_validator("gravity", mode="before")
     @classmethod
     def _boolean(cls, value: Any) -> Any:
         if not isinstance(value, bool):
-            raise _problem("must be true or false")
+            raise problem("must be true or false")
         return value
 
 
@@ -340,15 +290,15 @@ class Limits(Frozen):
 
     pressure_angle: PositiveAngle | None = None
     min_radius_of_curvature: NonNegativeLength | None = None
-    contact_stress: Annotated[float, _as(U.STRESS), Field(gt=0)] | None = None
-    roller_life: Annotated[float, _as(U.DURATION), Field(gt=0)] | None = None
+    contact_stress: Annotated[float, as_kind(U.STRESS), Field(gt=0)] | None = None
+    roller_life: Annotated[float, as_kind(U.DURATION), Field(gt=0)] | None = None
 
 
 class Elastic(Frozen):
     """A material given by its elastic constants: Young's modulus ``E`` (MPa) and Poisson's
     ratio ``poisson``."""
 
-    E: Annotated[float, _as(U.STRESS), Field(gt=0)]
+    E: Annotated[float, as_kind(U.STRESS), Field(gt=0)]
     poisson: Annotated[float, Field(ge=0, le=0.5)]
 
 
@@ -358,10 +308,10 @@ def _material(value: Any) -> Any:
     from camfab.design.materials import ALIASES, MATERIALS, material
 
     if not isinstance(value, str):
-        raise _problem("must be a material's name or {E, poisson}", ", ".join(MATERIALS),
+        raise problem("must be a material's name or {E, poisson}", ", ".join(MATERIALS),
                        kind="shape")
     if material(value) is None:
-        raise _problem("unknown material", ", ".join(MATERIALS) + ", or {E, poisson}",
+        raise problem("unknown material", ", ".join(MATERIALS) + ", or {E, poisson}",
                        did_you_mean(value.strip().lower(), [*MATERIALS, *ALIASES]),
                        kind="shape")
     key = value.strip().lower()
@@ -485,6 +435,8 @@ class Design(Frozen):
     materials: Materials = Materials()
     manufacturing: Manufacturing = Manufacturing()
     inspection: Inspection = Inspection()
+    #: The tool and feeds of the machining programs (``outputs: [gcode]``).
+    machining: Machining | None = None
     outputs: tuple[OutputName, ...] | None = None
     table_step: PositiveAngle = math.radians(1.0)
     sizing: SizingOptions = SizingOptions()
@@ -496,7 +448,7 @@ class Design(Frozen):
     def _rules(self, info: ValidationInfo) -> Design:
         from camfab.design.rules import check_rules
 
-        check_rules(self, frozenset(_ctx(info).get("sizing", ())))
+        check_rules(self, frozenset(context(info).get("sizing", ())))
         return self
 
     @cached_property

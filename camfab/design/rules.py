@@ -363,6 +363,8 @@ def _check_other(design: Design) -> None:
         fail(("outputs",), "lists an output twice")
     if design.outputs is not None and "step" in design.outputs and not step_available():
         fail(("outputs",), STEP_MISSING, show_got=False)
+    if design.outputs is not None and "gcode" in design.outputs and design.machining is None:
+        fail(("outputs",), GCODE_UNSET, show_got=False)
     spring = design.spring
     if spring is not None and spring.preload is not None and spring.initial_compression is not None:
         fail(("spring", "initial_compression"), "give either preload or initial_compression, "
@@ -500,6 +502,8 @@ def _check_size(design: Design, max_lift: float) -> None:
 
 
 #: What asking for STEP without the optional extra is told.
+GCODE_UNSET = ("gcode needs the tool and feeds: a machining section (tool_diameter, feed, ...) "
+               "in the design, or a shop's settings file (camfab build --machining FILE)")
 STEP_MISSING = ("step needs camfab's optional STEP extra (the OpenCASCADE bindings): "
                 "pip install 'camfab[step]'")
 

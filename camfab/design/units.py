@@ -52,6 +52,8 @@ DAMPING = Kind("a damping coefficient", "N*s/m", "N*s/m", "[force]*[time]/[lengt
                1e9, "1e9 N·s/m")
 STRESS = Kind("a stress", "MPa", "MPa", "[force]/[length]**2", "MPa, GPa, N/mm**2, psi, ksi",
               1e9, "1e9 MPa")
+FEED = Kind("a feed rate", "mm/minute", None, "[length]/[time]", "mm/min, in/min, m/s", 1e9,
+            "1,000 km/min")
 DURATION = Kind("a duration", "hour", "hour", "[time]", "h, hour, s, day, year", 1e12,
                 "1e12 h")
 

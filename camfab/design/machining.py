@@ -1,0 +1,71 @@
+"""The design file's ``machining:`` section: the tool, the feeds and the program's form for the
+machining programs camfab writes (``outputs: [gcode]``, :mod:`camfab.machining`).
+
+Lengths are millimetres and feeds millimetres per minute here (a bare number in the design's
+``units``, or a string with a unit); ``spindle_rpm`` is rpm. Every key but ``tool_diameter`` and
+``feed`` has a default a shop would start from, stated on its field.
+"""
+
+from __future__ import annotations
+
+from typing import Annotated, Literal
+
+from pydantic import Field
+
+from camfab.design import units as U
+from camfab.design.fields import Frozen, NonNegativeLength, PositiveLength, as_kind
+
+PositiveFeed = Annotated[float, as_kind(U.FEED), Field(gt=0)]
+PositiveSpeed = Annotated[float, as_kind(U.SPEED), Field(gt=0)]
+
+#: The spindle speed (rpm) when the section gives none: a 6 mm carbide end mill in aluminium.
+DEFAULT_SPINDLE_RPM = 10000.0
+#: The material left by the roughing passes for the finishing pass (mm) when none is given.
+DEFAULT_FINISH_ALLOWANCE_MM = 0.2
+#: The height (mm above the work's top) of rapid moves when none is given.
+DEFAULT_SAFE_Z_MM = 5.0
+#: The plunge feed, as a fraction of ``feed``, when none is given.
+DEFAULT_PLUNGE_FRACTION = 1 / 3
+
+
+class Machining(Frozen):
+    """The tool and how to cut (mm, mm/min, rpm).
+
+    ``cut_length`` defaults to three tool diameters and ``step_down`` to half a tool diameter
+    (at most the length of cut); ``plunge_feed`` to a third of ``feed``."""
+
+    tool_diameter: PositiveLength
+    flutes: Annotated[int, Field(ge=1, le=16)] = 2
+    cut_length: PositiveLength | None = None
+    spindle_rpm: PositiveSpeed = DEFAULT_SPINDLE_RPM
+    feed: PositiveFeed
+    plunge_feed: PositiveFeed | None = None
+    step_down: PositiveLength | None = None
+    finish_allowance: NonNegativeLength = DEFAULT_FINISH_ALLOWANCE_MM
+    safe_z: PositiveLength = DEFAULT_SAFE_Z_MM
+    direction: Literal["climb", "conventional"] = "climb"
+    compensation: Literal["control", "path"] = "control"
+    dialect: Literal["linuxcnc", "grbl"] = "linuxcnc"
+
+    @property
+    def tool_radius(self) -> float:
+        """Half the tool's diameter (mm)."""
+        return self.tool_diameter / 2
+
+    @property
+    def length_of_cut(self) -> float:
+        """``cut_length``, or three tool diameters (mm)."""
+        return self.cut_length if self.cut_length is not None else 3 * self.tool_diameter
+
+    @property
+    def depth_step(self) -> float:
+        """``step_down``, or half a tool diameter, at most the length of cut (mm)."""
+        if self.step_down is not None:
+            return self.step_down
+        return min(self.tool_diameter / 2, self.length_of_cut)
+
+    @property
+    def plunge(self) -> float:
+        """``plunge_feed``, or a third of ``feed`` (mm/min)."""
+        return self.plunge_feed if self.plunge_feed is not None else (
+            self.feed * DEFAULT_PLUNGE_FRACTION)
