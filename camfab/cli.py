@@ -26,6 +26,7 @@ from camfab.stopping import RECEIVED, Interrupted, catch, stop_line
 
 if TYPE_CHECKING:
     from camfab.analysis.record import Analysis
+    from camfab.design.shop import Shop
     from camfab.inspect import Inspection, InspectOptions
     from camfab.sweep.run import SweepOptions
 
@@ -138,8 +139,15 @@ def main() -> None:
                    "when stderr is a terminal).")
 @click.option("--step", is_flag=True,
               help="Write NAME.step too (exact solids for CAD; needs camfab[step]).")
+@click.option("--gcode", is_flag=True,
+              help="Write NAME.ngc too: the machining program, with the tool and feeds of the "
+                   "design's machining section or of --machining FILE.")
+@click.option("--machining", "shop_file", metavar="FILE",
+              help="A shop's machining settings: a YAML file with a machining section (and its "
+                   "units, mm by default). The design's own machining keys override the file's "
+                   "key by key. Implies --gcode.")
 def build(designs: tuple[str, ...], out_dir: Path | None, jobs: int,
-          progress: bool | None, step: bool) -> None:
+          progress: bool | None, step: bool, gcode: bool, shop_file: str | None) -> None:
     """Build DESIGN files: write the report, motion table and manufacturing files. With several
     designs, a failure of one does not stop the others; a summary table ends the output and the
     exit status is the worst of them."""
@@ -152,12 +160,23 @@ def build(designs: tuple[str, ...], out_dir: Path | None, jobs: int,
     if step and not step_available():
         click.echo(f"camfab build: --step: {STEP_MISSING}", err=True)
         sys.exit(2)
+    shop = None
+    if shop_file is not None:  # read once, for every design; a bad one builds none
+        from camfab.design.shop import read_shop
+        from camfab.errors import CamfabError
+
+        try:
+            shop = read_shop(shop_file)
+        except CamfabError as exc:
+            click.echo(str(exc), err=True)
+            sys.exit(2)
+    also = (*(["step"] * step), *(["gcode"] * (gcode or shop is not None)))
     if progress is None:
         progress = len(designs) >= PROGRESS_FROM and sys.stderr.isatty()
     start = time.perf_counter()
     refused = same_names(designs) if len(designs) > 1 else {}
     # several designs into one -o DIR: each in DIR/NAME/, as under exports/
-    task = partial(_build_one, also=("step",) if step else (), nested=len(designs) > 1)
+    task = partial(_build_one, also=also, nested=len(designs) > 1, shop=shop)
     built = iter(run_all([p for i, p in enumerate(designs) if i not in refused], out_dir, jobs,
                          task, progress, _import_build))
     outcomes = [refused[i] if i in refused else next(built) for i in range(len(designs))]
@@ -464,12 +483,12 @@ def _guarded(path: str, work) -> Outcome:
 
 
 def _build_one(path: str, out_dir: Path | None, also: tuple[str, ...] = (),
-               nested: bool = False) -> Outcome:
+               nested: bool = False, shop: Shop | None = None) -> Outcome:
     def work() -> Outcome:
         from camfab.analysis.sizing_words import sized_words
         from camfab.pipeline import build as build_design
 
-        result = build_design(path, out_dir, also, nested)
+        result = build_design(path, out_dir, also, nested, shop)
         lines = [f"{result.analysis.design.name}: {_verdict(result.analysis)} — wrote "
                  f"{len(result.written)} file(s) to {result.folder}/"]
         lines += [f"  {p.name}" for p in result.written]

@@ -22,6 +22,7 @@ from camfab.analysis.kinematics import (
 )
 from camfab.analysis.record import Analysis
 from camfab.design import Design
+from camfab.design.shop import Shop
 from camfab.writing import write_files
 
 if TYPE_CHECKING:
@@ -35,15 +36,46 @@ ALL_OUTPUTS = ("dxf", "svg", "stl", "report", "csv")
 ASKED_ONLY = ("step", "gcode")
 
 
-def load_design(path: str | Path) -> Design:
+def load_design(path: str | Path, shop: Shop | str | Path | None = None,
+                also: tuple[str, ...] = ()) -> Design:
     """Read, check and return the design in file *path*: the keys it gives as ``auto`` sized
     (:func:`size_design`), the design file's rules, then its cam kind's (those that need the
     kind's geometry), every broken one reported on its line (raises
-    DesignError/DesignFileError)."""
+    DesignError/DesignFileError).
+
+    *shop*: a shop's machining settings (a file, or as :func:`~camfab.design.shop.read_shop`
+    read it) under the design's own ``machining:`` keys (:mod:`camfab.design.shop`); a rule a
+    setting from it breaks is reported on its line. *also*: the outputs to make besides those
+    the design asks for (``step``, ``gcode``: ``camfab build --step``, ``--gcode``); ``gcode``
+    without the tool and feeds is refused."""
     from camfab.design import load_design as read
     from camfab.kinds import check_design
 
-    return read(path, check_design, sized_values)
+    if shop is None:
+        design = read(path, check_design, sized_values)
+    else:
+        from camfab.design.loader import design_from_document
+        from camfab.design.shop import read_shop, with_shop
+        from camfab.design.source import read_design_file
+
+        settings = shop if isinstance(shop, Shop) else read_shop(shop)
+        design = design_from_document(with_shop(read_design_file(path), settings),
+                                      check_design, sized_values)
+    return with_outputs(design, also) if also else design
+
+
+def with_outputs(design: Design, also: tuple[str, ...]) -> Design:
+    """*design* making the outputs *also* besides those it asks for; ``gcode`` without the
+    tool and feeds (no ``machining:`` section, no shop's settings) is refused on the design
+    file."""
+    from camfab.design.rules import GCODE_UNSET
+    from camfab.errors import DesignError, Location
+
+    if "gcode" in also and design.machining is None:
+        raise DesignError(f"--gcode {GCODE_UNSET.removeprefix('gcode ')}",
+                          location=Location(design.source, None, "machining"))
+    asked = design.outputs or ALL_OUTPUTS
+    return design.model_copy(update={"outputs": tuple(dict.fromkeys((*asked, *also)))})
 
 
 def design_from_text(text: str, file: str = "<design>", folder: Path = Path(".")) -> Design:
@@ -316,14 +348,13 @@ def output_folder(design: Design, out_dir: Path | None, nested: bool = False) ->
 
 
 def build(path: str | Path, out_dir: Path | None = None,
-          also: tuple[str, ...] = (), nested: bool = False) -> BuildResult:
-    """Load, analyse, render and write one design file; *also* the outputs named (``step``)
-    besides those the design asks for; *nested*: its files in a folder of its name inside
+          also: tuple[str, ...] = (), nested: bool = False,
+          shop: Shop | str | Path | None = None) -> BuildResult:
+    """Load, analyse, render and write one design file; *also* the outputs named (``step``,
+    ``gcode``) besides those the design asks for, *shop* a shop's machining settings under the
+    design's own (:func:`load_design`); *nested*: its files in a folder of its name inside
     *out_dir* (a batch's)."""
-    design = load_design(path)
-    if also:
-        asked = design.outputs or ALL_OUTPUTS
-        design = design.model_copy(update={"outputs": tuple(dict.fromkeys((*asked, *also)))})
+    design = load_design(path, shop, also)
     analysis = analyse(design)
     artifacts = render(analysis)
     folder = output_folder(design, out_dir, nested)

@@ -4,6 +4,7 @@ immutable base model, and the errors a field's validator carries through pydanti
 
 from __future__ import annotations
 
+import typing
 from typing import Annotated, Any
 
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, ValidationInfo
@@ -46,6 +47,25 @@ def _lift(value: Any, info: ValidationInfo) -> Any:
 
 
 _lift.kind = "lift"  # type: ignore[attr-defined]  # a length or an angle, by the follower
+
+
+def field_kind(model: type[BaseModel], name: str) -> Any:
+    """The unit kind of *model*'s field *name* (a :class:`~camfab.design.units.Kind`, or
+    ``"lift"``) from its converter (:func:`as_kind`), or None for a field without a unit."""
+    field = model.model_fields[name]
+    found: list[Any] = list(field.metadata)
+    pending = [field.annotation]
+    while pending:
+        annotation = pending.pop()
+        if typing.get_origin(annotation) is Annotated:
+            found += list(annotation.__metadata__)
+        pending += list(typing.get_args(annotation))
+    for item in found:
+        if isinstance(item, BeforeValidator):
+            kind = getattr(item.func, "kind", None)
+            if kind is not None:
+                return kind
+    return None
 
 
 def problem(problem: str, allowed: Any = None, hint: str | None = None,

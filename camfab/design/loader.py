@@ -93,6 +93,14 @@ def design_from_mapping(data: dict[str, Any], file: str = "<design>",
                      sizer)
 
 
+def design_from_document(doc: SourceDocument, checks: Checks | None = None,
+                         sizer: Sizer | None = None) -> Design:
+    """The design of the parsed document *doc* (a file's, or one with a shop's machining
+    settings merged in: :func:`camfab.design.shop.with_shop`), checked as :func:`load_design`
+    checks a file's."""
+    return _validate(doc, checks, sizer)
+
+
 def unsized_design(path: str | Path, keys: frozenset[str],
                    text: str | None = None) -> tuple[Design, frozenset[str]]:
     """The design in file *path* (or in its *text*, when given: an edit not saved yet) checked
@@ -182,7 +190,7 @@ def _rule_error(exc: RuleViolation, doc: SourceDocument, shaped: _Shaper) -> Des
     got = doc.value_at(yaml_path) if exc.show_got else None
     return DesignError(
         exc.error.problem,
-        location=Location(doc.file, doc.line_of(yaml_path), dotted(exc.path)),
+        location=doc.locate(yaml_path, dotted(exc.path)),
         got=got,
         allowed=exc.error.allowed,
         hint=exc.error.hint,
@@ -493,12 +501,13 @@ def _first_error(exc: ValidationError, doc: SourceDocument, shaped: _Shaper) -> 
         if loc and loc[-1] in ("float", "str", "function-before", "tagged-union"):
             loc = loc[:-1]
         yaml_path = shaped.yaml_path(loc)
-        line = doc.line_of(yaml_path)
+        location = doc.locate(yaml_path, dotted(loc))
+        line = location.line
         problem, allowed, hint = _describe(err)
         got = doc.value_at(yaml_path)
         error = DesignError(
             problem,
-            location=Location(doc.file, line, dotted(loc)),
+            location=location,
             got=got,
             allowed=allowed,
             hint=hint,

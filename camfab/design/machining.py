@@ -8,12 +8,16 @@ Lengths are millimetres and feeds millimetres per minute here (a bare number in 
 
 from __future__ import annotations
 
-from typing import Annotated, Literal
+from typing import TYPE_CHECKING, Annotated, Any, Literal
 
-from pydantic import Field
+from pydantic import Field, model_validator
 
 from camfab.design import units as U
 from camfab.design.fields import Frozen, NonNegativeLength, PositiveLength, as_kind
+
+if TYPE_CHECKING:
+    from camfab.design.model import Design
+    from camfab.motion.program import MotionProgram
 
 PositiveFeed = Annotated[float, as_kind(U.FEED), Field(gt=0)]
 PositiveSpeed = Annotated[float, as_kind(U.SPEED), Field(gt=0)]
@@ -32,7 +36,8 @@ class Machining(Frozen):
     """The tool and how to cut (mm, mm/min, rpm).
 
     ``cut_length`` defaults to three tool diameters and ``step_down`` to half a tool diameter
-    (at most the length of cut); ``plunge_feed`` to a third of ``feed``."""
+    (at most the length of cut); ``plunge_feed`` to a third of ``feed``; ``compensation`` to
+    ``control``, or ``path`` for ``dialect: grbl`` (Grbl has no cutter compensation)."""
 
     tool_diameter: PositiveLength
     flutes: Annotated[int, Field(ge=1, le=16)] = 2
@@ -46,6 +51,22 @@ class Machining(Frozen):
     direction: Literal["climb", "conventional"] = "climb"
     compensation: Literal["control", "path"] = "control"
     dialect: Literal["linuxcnc", "grbl"] = "linuxcnc"
+
+    @model_validator(mode="before")
+    @classmethod
+    def _grbl_path(cls, data: Any) -> Any:
+        """Without a ``compensation``, a Grbl program carries the tool centre's path."""
+        if isinstance(data, dict) and "compensation" not in data and data.get("dialect") == "grbl":
+            return {**data, "compensation": "path"}
+        return data
+
+    def check(self, design: Design, program: MotionProgram,
+              sizing: frozenset[str] = frozenset()) -> None:
+        """The design file's rules of these settings for *design*'s cam
+        (:func:`camfab.design.machining_rules.check_machining`)."""
+        from camfab.design.machining_rules import check_machining
+
+        check_machining(design, self, program, sizing)
 
     @property
     def tool_radius(self) -> float:

@@ -82,6 +82,8 @@ def check_rules(design: Design, sizing: frozenset[str] = frozenset()) -> None:
         design.cam.spec.check_fit(design, program)
     _check_swinging_face(design, program)
     _check_manufacturing(design)
+    if design.machining is not None:
+        design.machining.check(design, program, sizing)
     _check_other(design)
     _check_at_speed_ranges(design)
     _check_train(design)
@@ -501,9 +503,10 @@ def _check_size(design: Design, max_lift: float) -> None:
              f"coordinates round by {size * 3e-8:.2g} mm)")
 
 
-#: What asking for STEP without the optional extra is told.
+#: What asking for a machining program without the tool and feeds is told.
 GCODE_UNSET = ("gcode needs the tool and feeds: a machining section (tool_diameter, feed, ...) "
                "in the design, or a shop's settings file (camfab build --machining FILE)")
+#: What asking for STEP without the optional extra is told.
 STEP_MISSING = ("step needs camfab's optional STEP extra (the OpenCASCADE bindings): "
                 "pip install 'camfab[step]'")
 

@@ -9,12 +9,12 @@ millimetres and degrees."""
 from __future__ import annotations
 
 import math
-import typing
 from typing import TYPE_CHECKING, Any
 
-from pydantic import BaseModel, BeforeValidator
+from pydantic import BaseModel
 
 from camfab.design import units as U
+from camfab.design.fields import field_kind as _kind  # the unit kind of a model's field
 
 if TYPE_CHECKING:
     from camfab.design import Design
@@ -24,25 +24,6 @@ _NOT_INPUTS = ("source", "sized")
 
 #: The boundary conditions' keys: derivatives of the lift per radian^n of cam angle.
 _RATES = {"velocity": 1, "acceleration": 2, "jerk": 3}
-
-
-def _kind(model: type[BaseModel], name: str) -> Any:
-    """The unit kind of field *name* (a :class:`~camfab.design.units.Kind`, ``"lift"``) or
-    None, from its converter."""
-    field = model.model_fields[name]
-    found: list[Any] = list(field.metadata)
-    pending = [field.annotation]
-    while pending:
-        annotation = pending.pop()
-        if typing.get_origin(annotation) is typing.Annotated:
-            found += list(annotation.__metadata__)
-        pending += list(typing.get_args(annotation))
-    for item in found:
-        if isinstance(item, BeforeValidator):
-            kind = getattr(item.func, "kind", None)
-            if kind is not None:
-                return kind
-    return None
 
 
 def _value(value: Any, kind: Any, design: Design) -> Any:
