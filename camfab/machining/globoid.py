@@ -41,6 +41,7 @@ from camfab.machining.globoid_path import (
     unrolled,
     wall_passes,
 )
+from camfab.machining.globoid_text import cl_csv, program_text, setup_sheet
 
 if TYPE_CHECKING:
     from camfab.analysis.record import Analysis
@@ -61,7 +62,8 @@ WALL_SHARE = 0.25
 class Pass:
     """One pass of the cutter: its name, its side (0 the middle, ±1 a wall), the poses of
     its cut (the first where it enters at its first depth), the pose above the blank it
-    comes down to and leaves from, and the time of each move (min) at its feed."""
+    comes down to, its time (min) at its feeds, the plunge's included, and the turns of the
+    cam it takes."""
 
     name: str
     side: int
@@ -75,8 +77,6 @@ def machine(analysis: Analysis, part: Part, settings: Machining) -> Machined:
     """The globoidal cam's program ``NAME.ngc``, its cutter locations ``NAME-cl.csv`` and its
     setup sheet; or why none can be made (*part* is not needed: the groove is cut from its
     exact geometry)."""
-    from camfab.machining.globoid_text import cl_csv, program_text, setup_sheet
-
     design = analysis.design
     dense = analysis.globoid
     assert dense is not None, "a globoidal cam's analysis has its groove"

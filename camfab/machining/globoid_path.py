@@ -114,9 +114,9 @@ class Walls:
     """How a cutter smaller than the groove cuts its walls (mm): a pass each side with its
     axis moved ``shift`` off the roller's, square to it, along the contact normal averaged
     over the groove's depth (the middle of its turn); ``left`` the most a wall pass leaves on
-    its wall at any cam angle (the contact normal turns along the roller: the cutter's
-    cylinder, inside the roller's, touches the wall along its length only where it does
-    not)."""
+    its wall at any cam angle (the contact normal turns along the roller, so the cutter's
+    cylinder, which stays inside the roller's, meets the wall exactly only where the normal
+    is the averaged one)."""
 
     shift: float
     left: float
