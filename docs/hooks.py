@@ -416,6 +416,8 @@ def _taken_by(key: Key) -> str:
                                          ("`auto`", key.path in spec.auto_keys)) if on]
                 cams.append(name + (f" ({', '.join(marks)})" if marks else ""))
         return ", ".join(cams) if len(cams) < len(CAM_TYPES) else "every cam type"
+    if key.path.startswith("machining.machine"):
+        return "globoidal (the others do not use it)"
     if model == "Keyway":
         return _taken_by(Key("cam.keyway", type_of("Cam"), "keyway"))
     if model == "Follower":

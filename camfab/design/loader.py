@@ -33,7 +33,7 @@ _SECTIONS: dict[str, tuple[str, ...]] = {
     "inspection": ("tolerance",),
     "machining": ("tool_diameter", "flutes", "cut_length", "spindle_rpm", "feed", "plunge_feed",
                   "step_down", "finish_allowance", "safe_z", "direction", "compensation",
-                  "dialect"),
+                  "dialect", "machine"),
     "sizing": ("round_to",),
 }
 #: The keys a design may leave to camfab with ``auto`` (``section.key``), each where its cam
@@ -45,6 +45,7 @@ MAX_TABLE_BYTES = 1_000_000
 MAX_TABLE_ROWS = 20_000
 
 _KEYWAY = ("width", "depth")
+_MACHINE = ("b_axis_x", "b_axis_z")
 _ELASTIC = ("E", "poisson")
 _CONDITIONS = ("velocity", "acceleration", "jerk")
 _LAW_KEYS = {
@@ -311,6 +312,8 @@ class _Shaper:
         if spec is not None:
             self.keys(data["cam"], spec.cam_keys, ("cam",), f"a {cam_type} cam")
             self.keys(_get(data, "cam", "keyway"), _KEYWAY, ("cam", "keyway"), "keyway")
+        self.keys(_get(data, "machining", "machine"), _MACHINE, ("machining", "machine"),
+                  "a globoid's machine")
         follower = data.get("follower")
         if isinstance(follower, dict):
             self.keys(follower, follower_keys(spec, follower), ("follower",),

@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING, Annotated, Any, Literal
 from pydantic import Field, model_validator
 
 from camfab.design import units as U
-from camfab.design.fields import Frozen, NonNegativeLength, PositiveLength, as_kind
+from camfab.design.fields import Frozen, Length, NonNegativeLength, PositiveLength, as_kind
 
 if TYPE_CHECKING:
     from camfab.design.model import Design
@@ -30,6 +30,17 @@ DEFAULT_FINISH_ALLOWANCE_MM = 0.2
 DEFAULT_SAFE_Z_MM = 5.0
 #: The plunge feed, as a fraction of ``feed``, when none is given.
 DEFAULT_PLUNGE_FRACTION = 1 / 3
+
+
+class GloboidMachine(Frozen):
+    """Where a table-table machine's B axis stands (mm), for a globoidal cam's program
+    (:mod:`camfab.machining.globoid`): the cam on the rotary A axis (about X), which the B axis
+    (about Y) tilts. Measured from the work zero, the cam's axis at its middle plane, with A
+    and B at 0: ``b_axis_x`` along X (the cam's axis), ``b_axis_z`` up. X and Z make up for
+    B's axis not passing through the follower's pivot."""
+
+    b_axis_x: Length = 0.0
+    b_axis_z: Length = 0.0
 
 
 class Machining(Frozen):
@@ -51,6 +62,8 @@ class Machining(Frozen):
     direction: Literal["climb", "conventional"] = "climb"
     compensation: Literal["control", "path"] = "control"
     dialect: Literal["linuxcnc", "grbl"] = "linuxcnc"
+    #: A globoidal cam's machine: where its B axis stands.
+    machine: GloboidMachine = GloboidMachine()
 
     @model_validator(mode="before")
     @classmethod
