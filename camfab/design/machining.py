@@ -10,10 +10,10 @@ from __future__ import annotations
 
 from typing import Annotated, Literal
 
-from pydantic import Field
+from pydantic import Field, ValidationInfo, field_validator
 
 from camfab.design import units as U
-from camfab.design.fields import Frozen, NonNegativeLength, PositiveLength, as_kind
+from camfab.design.fields import Frozen, NonNegativeLength, PositiveLength, as_kind, problem
 
 PositiveFeed = Annotated[float, as_kind(U.FEED), Field(gt=0)]
 PositiveSpeed = Annotated[float, as_kind(U.SPEED), Field(gt=0)]
@@ -46,6 +46,24 @@ class Machining(Frozen):
     direction: Literal["climb", "conventional"] = "climb"
     compensation: Literal["control", "path"] = "control"
     dialect: Literal["linuxcnc", "grbl"] = "linuxcnc"
+    #: A grinding wheel's diameter: given, a plate cam that turns also gets its grinding
+    #: table and C/X program (:mod:`camfab.machining.grinding`). After ``dialect``, which it
+    #: is checked against.
+    wheel_diameter: PositiveLength | None = None
+
+    @field_validator("wheel_diameter")
+    @classmethod
+    def _wheel_needs_c(cls, value: float | None, info: ValidationInfo) -> float | None:
+        """A grinding program turns the cam on a C axis, which Grbl does not have."""
+        if value is not None and info.data.get("dialect") == "grbl":
+            raise problem("a grinding program turns the cam on a C axis, which Grbl does not have",
+                          hint="give dialect: linuxcnc for the grinding program")
+        return value
+
+    @property
+    def wheel_radius(self) -> float | None:
+        """Half the grinding wheel's diameter (mm), None without a wheel."""
+        return None if self.wheel_diameter is None else self.wheel_diameter / 2
 
     @property
     def tool_radius(self) -> float:
