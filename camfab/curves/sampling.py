@@ -163,7 +163,7 @@ def _refine(curve_at: Callable[[Index, Array], CurvePoints], index: Index, t: Ar
         if not at.size:
             break
         lo, hi = t[at], t[at + 1]
-        inner = (lo[:, None] + (hi - lo)[:, None] * _PROBES).ravel()
+        inner = probes_within(t, at)
         exact = curve_at(np.repeat(index[at], len(_PROBES)), inner).xy
         exact = exact.reshape(len(lo), len(_PROBES), 2)
         start = np.repeat(xy[at], len(_PROBES), axis=0)
@@ -177,6 +177,14 @@ def _refine(curve_at: Callable[[Index, Array], CurvePoints], index: Index, t: Ar
         index = np.insert(index, where, index[at[bad]])
         fresh = np.insert(fresh, where, True)
     return index, t, xy
+
+
+def probes_within(t: Array, at: Index) -> Array:
+    """The parameters at which the interval from ``t[i]`` to ``t[i + 1]`` of each i in *at* is
+    measured against its exact curve: a quarter, half and three quarters of the way, interval
+    by interval."""
+    lo, hi = t[at], t[at + 1]
+    return (lo[:, None] + (hi - lo)[:, None] * _PROBES).ravel()
 
 
 def arc_points(centre: Array, start: Array, sweep: float, tolerance: float) -> Array:

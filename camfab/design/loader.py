@@ -33,7 +33,8 @@ _SECTIONS: dict[str, tuple[str, ...]] = {
     "inspection": ("tolerance",),
     "machining": ("tool_diameter", "flutes", "cut_length", "spindle_rpm", "feed", "plunge_feed",
                   "step_down", "finish_allowance", "safe_z", "direction", "compensation",
-                  "dialect", "machine"),
+                  "dialect", "machine",
+                  "wheel_diameter"),
     "sizing": ("round_to",),
 }
 #: The keys a design may leave to camfab with ``auto`` (``section.key``), each where its cam

@@ -10,10 +10,17 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Annotated, Any, Literal
 
-from pydantic import Field, model_validator
+from pydantic import Field, ValidationInfo, field_validator, model_validator
 
 from camfab.design import units as U
-from camfab.design.fields import Frozen, Length, NonNegativeLength, PositiveLength, as_kind
+from camfab.design.fields import (
+    Frozen,
+    Length,
+    NonNegativeLength,
+    PositiveLength,
+    as_kind,
+    problem,
+)
 
 if TYPE_CHECKING:
     from camfab.design.model import Design
@@ -64,6 +71,10 @@ class Machining(Frozen):
     dialect: Literal["linuxcnc", "grbl"] = "linuxcnc"
     #: A globoidal cam's machine: where its B axis stands.
     machine: GloboidMachine = GloboidMachine()
+    #: A grinding wheel's diameter: given, a plate cam that turns also gets its grinding
+    #: table and C/X program (:mod:`camfab.machining.grinding`). After ``dialect``, which it
+    #: is checked against.
+    wheel_diameter: PositiveLength | None = None
 
     @model_validator(mode="before")
     @classmethod
@@ -80,6 +91,20 @@ class Machining(Frozen):
         from camfab.design.machining_rules import check_machining
 
         check_machining(design, self, program, sizing)
+
+    @field_validator("wheel_diameter")
+    @classmethod
+    def _wheel_needs_c(cls, value: float | None, info: ValidationInfo) -> float | None:
+        """A grinding program turns the cam on a C axis, which Grbl does not have."""
+        if value is not None and info.data.get("dialect") == "grbl":
+            raise problem("a grinding program turns the cam on a C axis, which Grbl does not have",
+                          hint="give dialect: linuxcnc for the grinding program")
+        return value
+
+    @property
+    def wheel_radius(self) -> float | None:
+        """Half the grinding wheel's diameter (mm), None without a wheel."""
+        return None if self.wheel_diameter is None else self.wheel_diameter / 2
 
     @property
     def tool_radius(self) -> float:
