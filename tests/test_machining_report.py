@@ -1,14 +1,15 @@
 """The machining programs' setup sheets in the reports, from setup sheets built as the program
 writers build them (:mod:`tests.machining_setups`: a plate's outline toolpath, a drum's unrolled
-groove, a globoid's swing): the page's "Machining" section and the JSON's ``machining`` key there
-exactly when a program was written, and the rest of both reports unchanged; the numbers as the
-setup sheet holds them (the cycle time the operations' times summed, a row per tool and per
-operation, lengths and feeds in the program's units); the toolpath's picture holding the path
-(read back from the SVG through its ticks: its extents, cutting moves solid and rapid ones dashed,
-one scale on a plan view only); the work zero's sketch; the line a build prints; and the page
-laid out in Debian's Chromium (nothing wider than its card from the studio's 992 px column up,
-no text of a picture over another, text of 11 px and more, no page of the PDF ending on a
-heading)."""
+groove, a globoid's swing) and from the drum's program as camfab writes it: the page's
+"Machining" section and the JSON's ``machining`` key there exactly when a program was written,
+and the rest of both reports unchanged; the numbers as the setup sheet holds them (the cycle time
+the operations' times summed, a row per tool and per operation, lengths and feeds in the
+program's units); the toolpath's picture holding the path (read back from the SVG through its
+ticks: its extents, cutting moves solid and rapid ones dashed, one scale on a plan view only);
+the work zero's sketch; the line a build prints; and the page laid out in Debian's Chromium
+(nothing wider than its card from the studio's 992 px column up, no text of a picture over
+another, text of 11 px and more, no page of the PDF ending on a heading, the section's style
+kept when the studio puts a report's body in place)."""
 
 from __future__ import annotations
 
@@ -28,7 +29,7 @@ from camfab.export.machining_figures import same_length_unit, thinned, toolpath_
 from camfab.export.machining_page import cycle_time_line, minutes_words
 from camfab.export.report_html import render_report_html
 from camfab.export.report_json import render_report_json
-from camfab.pipeline import analyse, load_design
+from camfab.pipeline import analyse, design_from_text, load_design, render
 
 from .conftest import DESIGNS, chromium
 from .machining_setups import drum_setup, globoid_setup, plate_setup, with_setups
@@ -56,6 +57,17 @@ def built() -> dict[str, tuple[Analysis, Analysis]]:
         plain = analyse(load_design(DESIGNS / f"{name}.yaml"))
         out[name] = (plain, replace(plain, machining=(make(plain),)))
     return out
+
+
+@pytest.fixture(scope="module")
+def written() -> Analysis:
+    """The drum's program as camfab writes it (outputs: [gcode], a tool of the groove's width),
+    its analysis as the build leaves it."""
+    text = (DESIGNS / "demo-cylindrical.yaml").read_text() + (
+        "outputs: [report, gcode]\nmachining:\n  tool_diameter: 12.1\n  feed: 600\n")
+    artifacts = render(analyse(design_from_text(text, "drum.yaml", DESIGNS)))
+    assert artifacts.analysis is not None and "demo-cylindrical.ngc" in artifacts.files
+    return artifacts.analysis
 
 
 def _section(page: str) -> str:
@@ -124,6 +136,20 @@ def _tables(section: str) -> dict[str, str]:
     return out
 
 
+def test_a_program_camfab_writes_gets_its_sheet_in_both_reports(written: Analysis) -> None:
+    """The drum's program as its writer makes it: one sheet, the JSON's numbers its setup's,
+    the page's section with its sketch and toolpath."""
+    [setup] = written.machining
+    [sheet] = json.loads(render_report_json(written))["machining"]
+    assert sheet["file"] == setup.file == "demo-cylindrical.ngc" and sheet["axes"] == "XZA"
+    assert sheet["cycle_time_min"] == pytest.approx(sum(op.minutes for op in setup.operations))
+    assert len(sheet["operations"]) == len(setup.operations) > 0
+    assert [t["number"] for t in sheet["tools"]] == [t.number for t in setup.tools]
+    section = _section(render_report_html(written).decode())
+    assert section.count('class="work-zero"') == 1 and section.count("<figure") == 1
+    assert f"<h3>{setup.file}</h3>" in section
+
+
 def test_the_page_shows_the_stock_the_work_zero_each_tool_each_operation_and_the_total(
         built: dict[str, tuple[Analysis, Analysis]]) -> None:
     _, machined = built["demo-cylindrical"]
@@ -137,7 +163,9 @@ def test_the_page_shows_the_stock_the_work_zero_each_tool_each_operation_and_the
     assert rows["work zero"] == setup.work_zero.replace("'", "&#39;")
     assert rows["axes"] == "X, Z, A (turns about X)"
     assert rows["estimated cycle time"] == "9.75 min"
-    assert section.count("<tr><th>note</th>") == len(setup.notes) == 2
+    notes = re.search(r'<div class="notes">.*?</div>', section, flags=re.S)
+    assert notes is not None
+    assert re.findall(r"<li>(.*?)</li>", notes.group(0)) == list(setup.notes)
     assert _cells(tables["Tools"]) == [["1", "flat end mill", "12", "3", "30"],
                                        ["2", "flat end mill", "8", "2", "20"]]
     assert _cells(tables["Operations, in order"]) == [
@@ -250,14 +278,15 @@ def _drawn(svg: str, colour: str) -> tuple[np.ndarray, ET.Element]:
     return offset + per_pt * points, paths[-1]
 
 
-@pytest.mark.parametrize("name", list(CASES))
+@pytest.mark.parametrize("name", [*CASES, "written"])
 def test_the_toolpath_picture_holds_the_path_s_extents(
-        built: dict[str, tuple[Analysis, Analysis]], name: str) -> None:
+        built: dict[str, tuple[Analysis, Analysis]], written: Analysis, name: str) -> None:
     """The cutting moves drawn (red, solid) span what the program's cutting moves span, and the
-    rapid moves drawn (grey, dashed) theirs, to a point of the figure."""
+    rapid moves drawn (grey, dashed) theirs, to a point of the figure (the drum's program as
+    camfab writes it too)."""
     from camfab.export.figures import CUT, REFERENCE
 
-    setup = built[name][1].machining[0]
+    setup = (written if name == "written" else built[name][1]).machining[0]
     svg = toolpath_figure(setup, "t")
     assert svg is not None
     root = ET.fromstring(svg)
@@ -276,7 +305,7 @@ def test_the_toolpath_picture_holds_the_path_s_extents(
     assert setup.toolpath.y_label in labels or any(
         setup.toolpath.y_label.split()[0] in (t.text or "")
         for t in root.iter(f"{SVG}tspan"))
-    plan = name == "seed-10-4"
+    plan = name == "seed-10-4"  # (the drum's writer: X along the axis against A)
     # a plan view at one scale; an unrolled path or a swing at the scales that fill the panel
     assert np.isclose(abs(per_pt[0]), abs(per_pt[1]), rtol=1e-3) == plan
     assert ("work zero" in labels) == plan
@@ -408,17 +437,17 @@ def browser() -> Any:
 
 
 @pytest.fixture(scope="module")
-def pages(built: dict[str, tuple[Analysis, Analysis]],
+def pages(built: dict[str, tuple[Analysis, Analysis]], written: Analysis,
           tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
     folder = tmp_path_factory.mktemp("machining-pages")
     out = {}
-    for name, (_, machined) in built.items():
+    for name, machined in [*((k, v[1]) for k, v in built.items()), ("written", written)]:
         out[name] = folder / f"{name}-report.html"
         out[name].write_bytes(render_report_html(machined))
     return out
 
 
-@pytest.mark.parametrize("name", list(CASES))
+@pytest.mark.parametrize("name", [*CASES, "written"])
 def test_the_section_is_laid_out_readably_from_the_studio_s_column_up(
         browser: Any, pages: dict[str, Path], name: str) -> None:
     """At 992 px (the report's column in the studio at 1280), 1024, 1280 and 1600 px: nothing

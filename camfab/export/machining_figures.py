@@ -6,8 +6,8 @@ Toolpath`): the tool centre's cutting moves solid, its rapid moves dashed and fa
 writer's axes; a plan view (both axes lengths in one unit) at equal scale, an unrolled path or a
 swing against the cam angle at the scales that fill the panel. The work zero's picture is a small
 sketch to scale of the part as it sits on the machine, chosen by the program's axes: a plate from
-above and from the front (``XYZ``), a drum from the side (``XZA``), a globoid in the plane of the
-turret's swing (``XZAB``), a cam on a grinder's C axis beside its wheel (``XC``).
+above and from the front (``XYZ``), a drum from the side (``XZA``), a globoid on its table-table
+machine (``XZAB``, ``XYZAB``), a cam on a grinder's C axis beside its wheel (``XC``).
 
 Lengths are millimetres, angles degrees.
 """
@@ -309,56 +309,57 @@ def _drum(fig: Figure, setup: Setup, analysis: Analysis, geometry: dict[str, Any
 
 
 def _globoid(fig: Figure, setup: Setup, analysis: Analysis, geometry: dict[str, Any]) -> bool:
-    """A globoid in the plane of the turret's swing: the blank about the cam's axis (A turns
-    about it), the turret's pivot (B turns about it) and its arm with the cutter at mid-swing,
-    the cam's centre marked."""
-    need = ("pivot_distance_mm", "width_mm", "surface_from_pivot_mm", "outer_radius_mm")
+    """A globoid on its table-table machine at A = B = 0, seen from −Y: the blank about the
+    cam's axis along X (A turns about it), the cutter pointing down on the line of centres
+    (standing vertical: the pivot above the cam's axis for a concave globoid, below it for a
+    convex one) with its tip at the roller's point, B's axis where the settings put it (B
+    turns about it), the work zero on the cam's axis at its middle plane."""
+    need = ("pivot_distance_mm", "width_mm", "surface_from_pivot_mm", "arm_length_mm")
     if any(not geometry.get(k) for k in need):
         return False
     pivot, width = geometry["pivot_distance_mm"], geometry["width_mm"]
-    surface = geometry["surface_from_pivot_mm"]
+    surface, arm = geometry["surface_from_pivot_mm"], geometry["arm_length_mm"]
+    inward = 1.0 if geometry.get("globoid") == "concave" else -1.0
     z = np.linspace(-width / 2.0, width / 2.0, 81)
     ring = np.sqrt(np.maximum(surface**2 - z**2, 0.0))
-    radius = (pivot - ring) if geometry.get("globoid") == "concave" else (ring - pivot)
-    ax = _panel(fig, 0.0, 1.0, "in the plane of the swing")
-    # the cam's axis is vertical, the pivot to its right: x radial toward it, y along the axis
-    _body(ax, np.concatenate((radius, -radius[::-1])), np.concatenate((z, z[::-1])))
+    radius = inward * (pivot - ring)
+    ax = _panel(fig, 0.0, 1.0, "on the machine at A = B = 0, seen from −Y")
+    _body(ax, np.concatenate((z, z[::-1])), np.concatenate((radius, -radius[::-1])))
     bore = geometry.get("bore_radius_mm")
     if bore:
-        for x in (-bore, bore):
-            _hidden(ax, [x, x], [-width / 2.0, width / 2.0])
-    _axis_line(ax, (0.0, -0.62 * width), (0.0, 0.62 * width))
-    _axis_line(ax, (0.0, 0.0), (pivot, 0.0))
-    arm = geometry.get("arm_length_mm") or pivot / 2.0
-    rest = math.radians((geometry.get("rest_angle_deg") or 0.0)
-                        + (geometry.get("swing_deg") or 0.0) / 2.0)
-    # the arm at mid-swing from the pivot toward the cam, the cutter (the roller's size) on it
-    along = np.array([-math.cos(rest), math.sin(rest)])
-    across = np.array([-along[1], along[0]])
-    end = np.array([pivot, 0.0]) + arm * along
-    ax.plot([pivot, end[0]], [0.0, end[1]], color=EDGE, linewidth=1.0)
-    roller = geometry.get("roller_radius_mm") or 0.1 * arm
-    reach = (geometry.get("roller_length_mm") or 2.0 * roller) / 2.0
-    corners = np.array([end + a * along + b * across for a, b in
-                        ((-reach, -roller), (reach, -roller), (reach, roller), (-reach, roller))])
-    ax.fill(corners[:, 0], corners[:, 1], color="#f5d6d2")
-    ax.plot(np.append(corners[:, 0], corners[0, 0]), np.append(corners[:, 1], corners[0, 1]),
-            color=CUT, linewidth=0.9)
-    ax.plot([pivot], [0.0], "o", color=AXIS_INK, markersize=5, markerfacecolor="#ffffff")
-    ax.text(pivot, -0.09 * width, "turret's\npivot", fontsize=LEGEND_FONT, ha="center",
+        for y in (-bore, bore):
+            _hidden(ax, [-width / 2.0, width / 2.0], [y, y])
+    _axis_line(ax, (-0.6 * width, 0.0), (0.6 * width, 0.0))
+    # the cutter, the roller's size, its tip where the roller's point is: ℓ from the pivot
+    tip = inward * (pivot - arm)
+    half = max((t.diameter_mm for t in setup.tools), default=0.0) / 2.0 or (
+        geometry.get("roller_radius_mm") or 0.05 * width)
+    rmax = float(np.max(np.abs(radius)))
+    # (its flutes and on, out of the blank: its end open, the tool going on to the spindle)
+    tall = max(geometry.get("roller_length_mm") or 4.0 * half, rmax - tip + 0.2 * width)
+    ax.fill([-half, half, half, -half], [tip, tip, tip + tall, tip + tall], color="#f5d6d2")
+    ax.plot([-half, -half, half, half], [tip + tall, tip, tip, tip + tall], color=CUT,
+            linewidth=0.9)
+    ax.text(half + 0.04 * width, tip + tall, "cutter", fontsize=LEGEND_FONT, ha="left",
             va="top")
-    turn = 0.16 * width
-    b_head = _turn(ax, (pivot, 0.0), (turn, turn), (200.0, 20.0))
-    ax.text(pivot + 1.25 * turn, 0.25 * turn, "B", fontsize=LEGEND_FONT, ha="left",
-            va="bottom")
-    rmax = float(radius.max())
-    a_head = _turn(ax, (0.0, 0.62 * width), (0.6 * rmax, 0.05 * width), (-60.0, 200.0))
-    ax.text(-0.68 * rmax, 0.62 * width, "A", fontsize=LEGEND_FONT, ha="right", va="center")
+    # B's axis along Y, B clockwise as seen here (the right-hand rule about +Y, seen from −Y)
+    machine = getattr(analysis.design.machining, "machine", None)
+    b = (float(getattr(machine, "b_axis_x", 0.0)), float(getattr(machine, "b_axis_z", 0.0)))
+    turn = 0.14 * width
+    ax.plot([b[0]], [b[1]], "o", color=AXIS_INK, markersize=7, markerfacecolor="#ffffff")
+    b_head = _turn(ax, b, (turn, turn), (-20.0, -160.0))
+    ax.text(b[0] - 1.1 * turn, b[1] - 0.3 * turn, "B", fontsize=LEGEND_FONT, ha="right",
+            va="top")
+    end = 0.6 * width + 0.06 * width
+    a_head = _turn(ax, (end, 0.0), (0.05 * width, 0.5 * rmax), (110.0, -150.0))
+    ax.text(end + 0.09 * width, 0.0, "A", fontsize=LEGEND_FONT, ha="left", va="center")
+    reach = 0.3 * width
+    _arrow(ax, (0.0, 0.0), (reach, 0.0), "X", va="bottom", offset=(0.0, 0.03 * width))
+    _arrow(ax, (0.0, 0.0), (0.0, 0.6 * rmax), "Z", ha="right", offset=(-0.04 * width, 0.0))
     _zero(ax)
-    ax.text(-0.04 * rmax, -0.03 * width, "cam's\ncentre", fontsize=LEGEND_FONT, ha="right",
-            va="top")
-    ax.include([-1.15 * rmax, pivot + 0.45 * width, b_head[0], a_head[0]],
-               [-0.66 * width, 0.7 * width])
+    ax.include([-0.62 * width, end + 0.16 * width, b[0] - 1.2 * turn, b_head[0], a_head[0]],
+               [-rmax * 1.05, rmax * 1.05, tip + tall * 1.05, b[1] - 1.1 * turn,
+                b[1] + 1.1 * turn])
     return True
 
 

@@ -54,8 +54,8 @@ def axes_words(axes: str) -> str:
 
 def machining_section(analysis: Analysis, geometry: dict[str, Any]) -> list[dict[str, Any]]:
     """Each program's setup sheet as the page shows it (*geometry*: the JSON report's, mm):
-    its rows (the stock, the work zero, the axes, the estimated cycle time and the notes), tool
-    table, operations table, total time and pictures (SVG)."""
+    its rows (the stock, the work zero, the axes, the estimated cycle time), notes, tool table,
+    operations table, total time and pictures (SVG)."""
     from camfab.export.machining_figures import toolpath_figure, work_zero_sketch
 
     design = analysis.design
@@ -74,9 +74,8 @@ def machining_section(analysis: Analysis, geometry: dict[str, Any]) -> list[dict
             "file": setup.file,
             "rows": [("stock", setup.stock), ("work zero", setup.work_zero),
                      ("axes", axes_words(setup.axes)),
-                     ("estimated cycle time", minutes_words(setup.minutes)),
-                     *(("note", note) for note in setup.notes)],
-            "unit": unit, "tools": tools, "operations": operations,
+                     ("estimated cycle time", minutes_words(setup.minutes))],
+            "notes": list(setup.notes), "unit": unit, "tools": tools, "operations": operations,
             "total": minutes_number(setup.minutes),
             "sketch": work_zero_sketch(setup, analysis, geometry, f"workzero{k}"),
             "toolpath": toolpath_figure(setup, f"toolpath{k}"),
