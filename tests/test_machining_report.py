@@ -24,7 +24,7 @@ import numpy as np
 import pytest
 
 from camfab.analysis.record import Analysis
-from camfab.analysis.setup_sheet import Operation, Setup, Tool, Toolpath
+from camfab.analysis.setup_sheet import Operation, Setup, Tool
 from camfab.export.machining_figures import same_length_unit, thinned, toolpath_figure
 from camfab.export.machining_page import cycle_time_line, minutes_words
 from camfab.export.report_html import render_report_html
@@ -341,15 +341,17 @@ def test_no_legend_covers_the_toolpath(built: dict[str, tuple[Analysis, Analysis
         assert legends_over_curves(svg) == []
 
 
-def _grinder_setup(analysis: Analysis) -> Setup:
-    """A grinding program's sheet: the wheel's centre against the cam angle, on X and C."""
-    theta = np.arange(0.0, 361.0)
-    x = 170.0 + analysis.program.evaluate(np.radians(theta))[0]
-    return Setup("seed-10-4-grind.ngc", "the cam, milled 0.2 mm over", "C0 at cam angle 0",
-                 "XC", (Tool(1, "grinding wheel", 300.0),),
-                 (Operation("grind the profile", 1, 100.0, 3.6),),
-                 Toolpath("cam angle C (deg)", "wheel centre X (mm)",
-                          np.column_stack((theta, x)), np.zeros((0, 2))))
+def _grinder_setup() -> tuple[Analysis, Setup]:
+    """A grinding program's sheet as camfab writes it: the wheel's centre against the cam
+    angle, on X and C (a wheel 40 mm across, which the plate's hollows take)."""
+    from camfab.machining.grinding import grind_files
+
+    text = (DESIGNS / "seed-10-4.yaml").read_text() + (
+        "machining:\n  tool_diameter: 6\n  feed: 600\n  wheel_diameter: 40\n")
+    analysis = analyse(design_from_text(text, "grind.yaml", DESIGNS))
+    assert analysis.design.machining is not None
+    [setup] = grind_files(analysis, analysis.design.machining).setups
+    return analysis, setup
 
 
 def _marks(svg: str) -> tuple[np.ndarray, list[np.ndarray], list[float]]:
@@ -406,8 +408,9 @@ def test_the_work_zero_s_sketch_puts_it_where_the_program_s_axes_have_it(
     zero, [body], _ = _marks(svg)
     np.testing.assert_allclose(zero, (body.min(axis=0) + body.max(axis=0)) / 2.0, atol=0.05)
     assert ">A<" in svg and ">B<" in svg
-    grinder = built["seed-10-4"][0]
-    svg = sketch(grinder, _grinder_setup(grinder))
+    grinder, setup = _grinder_setup()
+    assert setup.axes == "XC"
+    svg = sketch(grinder, setup)
     zero, [body], _ = _marks(svg)
     np.testing.assert_allclose(zero, (body.min(axis=0) + body.max(axis=0)) / 2.0, atol=0.05)
     assert ">C<" in svg and "wheel" in svg

@@ -364,21 +364,25 @@ def _globoid(fig: Figure, setup: Setup, analysis: Analysis, geometry: dict[str, 
 
 
 def _grinder(fig: Figure, setup: Setup, analysis: Analysis, geometry: dict[str, Any]) -> bool:
-    """A cam on a grinder's C axis from above: the cam (its base circle) about the work zero,
-    the wheel (the program's tool) beside it along X, C turning about the cam's axis."""
+    """A cam on a grinder's C axis, seen from the face its drawing shows: the cam (its base
+    circle) about the work zero, the wheel (the program's tool) beside it along X, C turning
+    the way the cam turns in use."""
     cam = float(geometry.get("base_radius_mm") or geometry.get("max_radius_mm") or 0.0)
     wheel = max((t.diameter_mm for t in setup.tools), default=0.0) / 2.0
     if cam <= 0.0 or wheel <= 0.0:
         return False
-    ax = _panel(fig, 0.0, 1.0, "from above")
+    ax = _panel(fig, 0.0, 1.0, "the cam and the wheel, seen from the cam's drawn face")
     t = np.linspace(0.0, 2.0 * math.pi, 121)
     _body(ax, cam * np.cos(t), cam * np.sin(t))
     centre = cam + wheel
     ax.plot(centre + wheel * np.cos(t), wheel * np.sin(t), color=CUT, linewidth=0.9)
     ax.text(centre, -1.06 * wheel, "wheel", fontsize=LEGEND_FONT, ha="center", va="top")
-    _arrow(ax, (0.0, 0.0), (centre, 0.0), "X", va="bottom", offset=(0.0, 0.06 * wheel))
+    _arrow(ax, (0.0, 0.0), (centre, 0.0), "X", ha="left", va="bottom",
+           offset=(0.03 * max(cam, wheel), 0.03 * max(cam, wheel)))
     turn = max(1.3 * cam, 0.3 * wheel)  # (round the cam, or as large as it can be read)
-    head = _turn(ax, (0.0, 0.0), (turn, turn), (60.0, 300.0))
+    # C grows as the cam turns in use, seen from the face its drawing shows
+    sense = (300.0, 60.0) if analysis.design.cam.rotation == "cw" else (60.0, 300.0)
+    head = _turn(ax, (0.0, 0.0), (turn, turn), sense)
     ax.text(-1.08 * turn, 0.0, "C", fontsize=LEGEND_FONT, ha="right", va="center")
     _zero(ax)
     ax.include([-1.35 * turn, centre + 1.1 * wheel, head[0]],
