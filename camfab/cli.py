@@ -486,12 +486,14 @@ def _build_one(path: str, out_dir: Path | None, also: tuple[str, ...] = (),
                nested: bool = False, shop: Shop | None = None) -> Outcome:
     def work() -> Outcome:
         from camfab.analysis.sizing_words import sized_words
+        from camfab.export.machining_page import cycle_time_line
         from camfab.pipeline import build as build_design
 
         result = build_design(path, out_dir, also, nested, shop)
         lines = [f"{result.analysis.design.name}: {_verdict(result.analysis)} — wrote "
                  f"{len(result.written)} file(s) to {result.folder}/"]
         lines += [f"  {p.name}" for p in result.written]
+        lines += [f"  {cycle_time_line(setup)}" for setup in result.analysis.machining]
         sized = sized_words(result.analysis.design)
         if sized is not None:
             lines.append(f"  {sized}")

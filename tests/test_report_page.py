@@ -406,13 +406,17 @@ def test_no_legend_covers_a_curve(path: Path) -> None:
                 speed_figures.spectrum_figure(analysis)):
         if svg is None:
             continue
-        curves, legends = _curves_and_legends(svg)
-        assert legends
-        for x, y, w, h in legends:
-            for points in curves:
-                inside = ((points[:, 0] > x) & (points[:, 0] < x + w)
-                          & (points[:, 1] > y) & (points[:, 1] < y + h))
-                assert not inside.any(), (path.stem, (x, y, w, h))
+        assert legends_over_curves(svg) == [], path.stem
+
+
+def legends_over_curves(svg: str) -> list[tuple[float, ...]]:
+    """The legend boxes of an SVG figure (it has one at least) that a plotted curve runs
+    into."""
+    curves, legends = _curves_and_legends(svg)
+    assert legends
+    return [(x, y, w, h) for x, y, w, h in legends for points in curves
+            if ((points[:, 0] > x) & (points[:, 0] < x + w)
+                & (points[:, 1] > y) & (points[:, 1] < y + h)).any()]
 
 
 def _lead_ins(page: str) -> dict[str, tuple[str, bool]]:
@@ -435,12 +439,21 @@ def test_printed_no_page_ends_on_a_heading(tmp_path: Path, name: str) -> None:
     """Printed to PDF (A4, the page's print rules), no page but the last ends with a section's
     or a table's heading, alone or with only (some of) the paragraphs that lead into the table or
     figure of its section: the heading goes to the next page with what it introduces."""
+    page, _, _ = _page(name, tmp_path)
+    pages, alone = printed(page, tmp_path)
+    assert len(pages) > 1
+    assert alone == []
+
+
+def printed(page: Path, folder: Path) -> tuple[list[list[str]], list[tuple[int, str, list[str]]]]:
+    """The report *page* printed to PDF by Chromium (in *folder*): the lines of each page's
+    text, and each page but the last that ends on a heading alone or with only the words that
+    lead into what it heads (its number, the heading, the lines after it)."""
     chromium = tool("chromium", "chromium")
     pdftotext = tool("pdftotext", "poppler-utils")
-    page, _, _ = _page(name, tmp_path)
-    pdf = tmp_path / "report.pdf"
+    pdf = folder / "report.pdf"
     subprocess.run([chromium, "--headless", "--no-sandbox", "--disable-gpu",
-                    f"--user-data-dir={tmp_path / 'profile'}", "--no-pdf-header-footer",
+                    f"--user-data-dir={folder / 'profile'}", "--no-pdf-header-footer",
                     f"--print-to-pdf={pdf}", page.as_uri()], capture_output=True, timeout=180,
                    check=False)
     assert pdf.exists() and pdf.stat().st_size > 10_000
@@ -450,15 +463,16 @@ def test_printed_no_page_ends_on_a_heading(tmp_path: Path, name: str) -> None:
     pages = [[line.strip() for line in text.splitlines() if line.strip()]
              for text in info.split("\f")]
     pages = [lines for lines in pages if lines]
-    assert len(pages) > 1
+    alone = []
     for number, lines in enumerate(pages[:-1], start=1):
         last = max((k for k, line in enumerate(lines) if line in lead_ins), default=None)
         if last is None:
             continue
         after = re.sub(r"\s+", "", "".join(lines[last + 1:]))
         lead, more = lead_ins[lines[last]]
-        alone = not after or (lead.startswith(after) and (more or after != lead))
-        assert not alone, (number, lines[last], lines[last + 1:])
+        if not after or (lead.startswith(after) and (more or after != lead)):
+            alone.append((number, lines[last], lines[last + 1:]))
+    return pages, alone
 
 
 def _fields(model: BaseModel) -> dict[str, Any]:

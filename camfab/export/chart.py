@@ -245,6 +245,8 @@ class Axes:
         self.title_size = 10.0
         self.xtick_labels = True
         self.legend_options: dict[str, Any] | None = None
+        #: Whether the frame, the ticks and their labels are drawn (not on a sketch).
+        self.axis_on = True
         self.shared: list[Axes] = [self]
         #: The group the items added now go into (drawn together in a ``<g>``), and the
         #: animation frames of each group: one SVG transform per frame.
@@ -365,6 +367,10 @@ class Axes:
     def set_ylim(self, low: float, high: float) -> None:
         self.ylim = (float(low), float(high))
 
+    def set_axis_off(self) -> None:
+        """No frame, ticks or tick labels: a sketch drawn to scale, its coordinates unsaid."""
+        self.axis_on = False
+
     def set_aspect(self, aspect: str) -> None:
         """``"equal"``: one millimetre is as long across as up (the panel's box shrinks)."""
         self.equal = aspect == "equal"
@@ -469,9 +475,11 @@ class Axes:
         out.append("</g>")
         out += [self._item_svg(i, px, py, (left, top, width, height)) for i in items
                 if i.kind in ("text", "arrow") and i.group is None]
-        out.append(f'<rect x="{_num(left)}" y="{_num(top)}" width="{_num(width)}" '
-                   f'height="{_num(height)}" fill="none" stroke="#000000" stroke-width="0.8"/>')
-        out.append(self._ticks(px, py, (left, top, width, height), (x0, x1), (y0, y1)))
+        if self.axis_on:
+            out.append(f'<rect x="{_num(left)}" y="{_num(top)}" width="{_num(width)}" '
+                       f'height="{_num(height)}" fill="none" stroke="#000000" '
+                       f'stroke-width="0.8"/>')
+            out.append(self._ticks(px, py, (left, top, width, height), (x0, x1), (y0, y1)))
         if self.title:
             # a title with the cam angle in it: written at θ = 0, its template with it
             animated = ANGLE_FIELD.search(self.title) is not None

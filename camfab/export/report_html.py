@@ -3,8 +3,8 @@
 A Jinja2 template inside the package lays out the verdict, every check with where it fails, the
 drawing of the cam (a disc with its follower, or a drum's developed groove, moved by the page's
 slider, its title saying the cam angle), the key numbers, the motion diagrams, pressure angle and
-curvature, the dynamics and the verification. The figures are inline SVG (``figures``), so the
-page works offline.
+curvature, the dynamics, the setup sheet of each machining program written (``machining_page``)
+and the verification. The figures are inline SVG (``figures``), so the page works offline.
 """
 
 from __future__ import annotations
@@ -125,6 +125,7 @@ def render_report_html(analysis: Analysis) -> bytes:
     """The report page as UTF-8 bytes."""
     from camfab.analysis.sizing_words import sized_words
     from camfab.export import figures
+    from camfab.export.machining_page import machining_section
     from camfab.export.report_json import at_speed_dict, report_data
 
     report = report_data(analysis)
@@ -157,7 +158,8 @@ def render_report_html(analysis: Analysis) -> bytes:
         verification=_verification(report),
         animation=animation_data(analysis), units=design.units,
         inputs=_inputs(report["design"], report["design_units"]),
-        lift_table=_lift_rows(report["lift_table"]))
+        lift_table=_lift_rows(report["lift_table"]),
+        machining=machining_section(analysis, report["geometry"]) if analysis.machining else [])
     return page.encode("utf-8")
 
 

@@ -52,12 +52,30 @@ def report_dict(analysis: Analysis) -> dict[str, Any]:
         "checks": [f.to_json() for f in analysis.findings],
         "dynamics": _dynamics(analysis),
         "verification": _verification(analysis),
+        **({"machining": machining_list(analysis)} if analysis.machining else {}),
         "status": {
             "exit_code": analysis.exit_code,
             "errors": count(analysis.findings, "error"),
             "warnings": count(analysis.findings, "warning"),
         },
     }
+
+
+def machining_list(analysis: Analysis) -> list[dict[str, Any]]:
+    """The setup sheet of each machining program written (mm, mm/min, min): its file, the
+    stock, the work zero and the machine's axes, each tool and each operation in order with
+    its estimated time, the estimated cycle time (the operations' times summed: feed moves at
+    their feeds, rapid moves and tool changes not counted) and the notes."""
+    return [{"file": setup.file, "stock": setup.stock, "work_zero": setup.work_zero,
+             "axes": setup.axes,
+             "tools": [{"number": t.number, "what": t.what, "diameter_mm": t.diameter_mm,
+                        "flutes": t.flutes, "cut_length_mm": t.cut_length_mm}
+                       for t in setup.tools],
+             "operations": [{"name": op.name, "tool": op.tool, "passes": op.passes,
+                             "feed_mm_min": op.feed_mm_min, "minutes": op.minutes}
+                            for op in setup.operations],
+             "cycle_time_min": setup.minutes, "notes": list(setup.notes)}
+            for setup in analysis.machining]
 
 
 def sizing_dict(design: Design) -> dict[str, Any] | None:
