@@ -140,11 +140,12 @@ def start_tangent(path: Profile) -> Array:
     return turn * np.array([-radial[1], radial[0]])
 
 
-def laps(path: Profile, share: Array, top: float, bottom: float, count: int,
-         feed: float) -> list[Move]:
-    """*count* laps round *path* (mm) descending from *top* to *bottom* (mm), each vertex at
-    its *share* of a lap down the slope (a level lap when they are equal), at *feed*
-    (mm/min)."""
+def laps(path: Profile, share: Array, depths: Array, ramp: float, lead: Lead) -> list[Move]:
+    """A lap round *path* (mm, its vertices at *share* of a lap) at each of *depths* (z, mm),
+    from the height before the first (``lead.entry_z``): each lap ramps down from the last
+    depth to its own along the path up to the first vertex at least *ramp* of a lap on, at
+    ``lead.plunge``, and runs level from there at ``lead.feed`` (a level lap at a depth
+    repeated)."""
     v = path.vertices
     n = len(v)
     following = np.roll(v, -1, axis=0)
@@ -156,18 +157,23 @@ def laps(path: Profile, share: Array, top: float, bottom: float, count: int,
     sagitta[arcs.index] = arcs.radius * (1.0 - np.cos(arcs.sweep / 2.0))
     straight = (path.bulges == 0.0) | (sagitta < FLAT_ARC_MM) | (chord < SHORT_ARC_MM)
     ends = np.concatenate((share[1:], [1.0]))
-    every = np.tile(np.arange(n), count)
-    turn = (np.repeat(np.arange(count), n) + np.tile(ends, count)) / count
-    z = top + (bottom - top) * turn
+    last = ends[ends >= ramp - 1e-12].min()  # where each lap's ramp ends
+    down = np.minimum(ends / last, 1.0)  # share of the drop done at each vertex
+    tops = np.concatenate(([lead.entry_z], depths[:-1]))
+    z = tops[:, None] + (depths - tops)[:, None] * down[None, :]
+    # the ramp at the plunge feed, the corners within it too: a control's compensation turns
+    # round them at the ramp's feed (and round a corner where the ramp ends at the next move's)
+    ramping = (tops > depths)[:, None] & (share < last - 1e-12)[None, :]
+    feeds = np.where(ramping, lead.plunge, lead.feed).ravel()
     moves = []
-    for k, z_end in zip(every, z, strict=True):
-        end = following[k]
+    for k, z_end, feed in zip(np.tile(np.arange(n), len(depths)), z.ravel(), feeds,
+                              strict=True):
+        end = (float(following[k, 0]), float(following[k, 1]), float(z_end))
         if straight[k]:
-            moves.append(Move("G1", (float(end[0]), float(end[1]), float(z_end)), feed=feed))
+            moves.append(Move("G1", end, feed=float(feed)))
         else:
-            code = "G3" if path.bulges[k] > 0.0 else "G2"
-            moves.append(Move(code, (float(end[0]), float(end[1]), float(z_end)),
-                              (float(centre[k, 0]), float(centre[k, 1])), feed))
+            moves.append(Move("G3" if path.bulges[k] > 0.0 else "G2", end,
+                              (float(centre[k, 0]), float(centre[k, 1])), float(feed)))
     return moves
 
 
@@ -179,11 +185,12 @@ def lead_arc(start: Array, centre: Array, end: Array, left: bool, z: float,
 
 
 def pass_moves(path: Profile, share: Array, left: bool, radius: float, control: bool,
-               lead: Lead, bottom: float, count: int) -> list[Move]:
+               lead: Lead, depths: Array, ramp: float) -> list[Move]:
     """A whole pass round *path* (directed, mm; its vertices at *share* of a lap), the tool of
     *radius* (mm) on its *left* (the waste's side) when so: *path* the tool centre's, or with
-    *control* the part's contour that the control's compensation offsets; *count* ramp laps from
-    ``lead.entry_z`` down to *bottom* (mm), then a level lap there.
+    *control* the part's contour that the control's compensation offsets; a lap at each of
+    *depths* (z, mm), each ramping down over *ramp* of a lap or a little more (see
+    :func:`laps`).
 
     The tool comes down over the waste and enters along a straight move twice its radius long
     (the control's entry move, which must be longer than the radius) then a quarter circle onto
@@ -206,13 +213,12 @@ def pass_moves(path: Profile, share: Array, left: bool, radius: float, control: 
         moves.append(Move("words", words=f"G{41 if left else 42} D1"))
     moves += [Move("G1", at(enter, lead.entry_z), feed=lead.plunge),
               lead_arc(enter, centre_in, start, left, lead.entry_z, lead.plunge)]
-    moves += laps(path, share, lead.entry_z, bottom, count, lead.feed)
-    moves += laps(path, share, bottom, bottom, 1, lead.feed)
+    moves += laps(path, share, depths, ramp, lead)
     if lead.lead_out > 0.0:
         radius_out = lead.lead_out + offset
         centre_out = start + radius_out * n
-        moves.append(lead_arc(start, centre_out, centre_out + radius_out * t, left, bottom,
-                              lead.feed))
+        moves.append(lead_arc(start, centre_out, centre_out + radius_out * t, left,
+                              float(depths[-1]), lead.feed))
     end = moves[-1].end
     assert end is not None
     moves.append(Move("G0", (end[0], end[1], lead.safe_z)))
