@@ -3,10 +3,10 @@ cannot cut it — and LinuxCNC's rs274 runs every program written without an err
 
 The tool each example is given is what a shop would pick for its kind: a 6 mm end mill for a
 plate (a groove plate: one three quarters of the roller's diameter, narrower than the groove),
-a cutter of the groove's width for a drum or a globoid (2 × roller radius + clearance); the length
-of cut the part's depth and a margin. The geometry each program cuts is proven per kind
-(tests/test_machining_plates.py, _drum.py, _globoid.py, _grinding.py); here, that none is left
-without a program or a reason."""
+a cutter of the groove's width for a drum or a globoid (2 × roller radius + clearance); the
+length of cut the part's depth (a plate's thickness: its outline is cut through) and a margin.
+The geometry each program cuts is proven per kind (tests/test_machining_plates.py, _drum.py,
+_globoid.py, _grinding.py); here, that none is left without a program or a reason."""
 
 from __future__ import annotations
 
@@ -37,7 +37,6 @@ def settings(data: dict) -> dict:
         tool = 6.0
         if cam["type"] == "groove":
             tool = 1.5 * float(follower["roller_radius"]) * per_unit
-            depth = float(cam["groove_depth"]) * per_unit
     else:
         tool = (2 * float(follower["roller_radius"])
                 + float(follower.get("groove_clearance", 0))) * per_unit

@@ -355,3 +355,30 @@ def test_a_wheel_on_grbl_is_a_located_error() -> None:
         design_from_text(text, "grbl.yaml")
     line = text.splitlines().index("  wheel_diameter: 80") + 1
     assert f"grbl.yaml:{line}: machining.wheel_diameter:" in str(refused.value)
+
+
+def test_a_build_with_a_wheel_writes_the_grinding_files_beside_the_milling_program() -> None:
+    """``wheel_diameter`` given: the build writes the plate's milling program, its grinding
+    table and its C/X program, each with its setup sheet; a wheel that cannot grind the plate
+    leaves the milling program and fails the ``grinding`` check with where."""
+    from dataclasses import replace
+
+    from camfab.pipeline import render
+
+    def gcode(analysis):  # type: ignore[no-untyped-def]
+        return replace(analysis, design=analysis.design.model_copy(update={"outputs": ("gcode",)}))
+
+    analysis = gcode(load(DESIGNS / "seed-10-4.yaml", 40.0))
+    artifacts = render(analysis)
+    name = analysis.design.name
+    assert {f"{name}.ngc", f"{name}-grind.csv", f"{name}-grind.ngc"} <= set(artifacts.files)
+    assert artifacts.analysis is not None
+    assert [s.file for s in artifacts.analysis.machining] == [f"{name}.ngc", f"{name}-grind.ngc"]
+    assert "grinding" not in {f.id for f in artifacts.analysis.findings}
+
+    refused = render(gcode(load(DESIGNS / "demo-constant-diameter.yaml", 200.0)))
+    names = set(refused.files)
+    assert any(n.endswith(".ngc") for n in names) and not any("-grind" in n for n in names)
+    assert refused.analysis is not None
+    (grinding,) = [f for f in refused.analysis.findings if f.id == "grinding"]
+    assert not grinding.ok and "concave" in grinding.message and "°" in grinding.message

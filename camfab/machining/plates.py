@@ -66,7 +66,24 @@ def machine(analysis: Analysis, part: Part, settings: Machining) -> Machined:
             return Machined(withheld=f"{stem}.ngc: {refusal}")
         files[f"{stem}.ngc"] = text
         setups.append(setup)
-    return Machined(files, tuple(setups))
+    milled = Machined(files, tuple(setups))
+    return _with_grinding(milled, analysis, settings) if settings.wheel_radius else milled
+
+
+def _with_grinding(milled: Machined, analysis: Analysis, settings: Machining) -> Machined:
+    """*milled* with the grinding tables and C/X programs of ``wheel_diameter``
+    (:mod:`camfab.machining.grinding`), or, where the wheel cannot grind the plate, with the
+    ``grinding`` check that says why (the milling programs stay)."""
+    from camfab.analysis.findings import Finding
+    from camfab.machining.grinding import grind_files
+
+    ground = grind_files(analysis, settings)
+    findings = ground.findings
+    if ground.withheld is not None:
+        findings = (*findings, Finding("grinding", False, "error",
+                                       f"no grinding files: {ground.withheld}"))
+    return Machined({**milled.files, **ground.files}, (*milled.setups, *ground.setups),
+                    (*milled.findings, *findings))
 
 
 def plate_program(analysis: Analysis, part: Part, stem: str,
