@@ -45,13 +45,29 @@ def settings(data: dict) -> dict:
             "cut_length": f"{depth + MARGIN_MM:.6f} mm", "spindle_rpm": 12000}
 
 
-@pytest.mark.parametrize("name", EXAMPLES)
-def test_every_example_writes_a_program_rs274_runs_or_says_why_not(name: str,
+#: A plate's program in LinuxCNC's form (the control's cutter compensation) and in Grbl's (the
+#: tool centre's path); a drum's and a globoid's in LinuxCNC's alone (Grbl has no rotary axes).
+FORMS = {"linuxcnc": {}, "grbl": {"dialect": "grbl"}}
+
+
+
+
+def _cases() -> list[tuple[str, str]]:
+    cases = []
+    for name in EXAMPLES:
+        cam_type = yaml.safe_load((DESIGNS / name).read_text())["cam"]["type"]
+        plate = CAM_TYPES[cam_type].machining == "plate"
+        cases += [(name, dialect) for dialect in FORMS if plate or dialect == "linuxcnc"]
+    return cases
+
+
+@pytest.mark.parametrize(("name", "dialect"), _cases())
+def test_every_example_writes_a_program_rs274_runs_or_says_why_not(name: str, dialect: str,
                                                                     tmp_path: Path) -> None:
     need_rs274()
     path = DESIGNS / name
     data = yaml.safe_load(path.read_text())
-    data = {**data, "machining": settings(data), "outputs": ["gcode"]}
+    data = {**data, "machining": {**settings(data), **FORMS[dialect]}, "outputs": ["gcode"]}
     design = design_from_mapping(data, str(path), path.parent)
     artifacts = render(analyse(design, advice=False))
     assert artifacts.analysis is not None
