@@ -646,3 +646,18 @@ def test_a_nul_in_a_path_is_refused_naming_it(built: Path, tmp_path: Path, which
     assert str(refusal.value).startswith(f"{bad}: "), refusal.value
     assert "\n" not in str(refusal.value)
     assert sorted(p.name for p in tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("layer", [(), ("--layer", "pocket")])
+def test_a_groove_cams_drawing_is_never_read_as_its_blank(tmp_path: Path,
+                                                          layer: tuple[str, ...]) -> None:
+    """A groove cam's DXF holds the plate's blank on CUT (a circle about the cam's centre) and
+    the groove's two walls on POCKET. Read without a design, its largest CUT contour is that
+    circle, which gave "lift 0 mm" and exit 0: a verdict about the wrong contour. It is refused
+    in one line saying where the cam is, whichever of the two layers is asked for."""
+    result = run_cli("build", str(DESIGNS / "demo-groove-roller.yaml"), "-o", str(tmp_path))
+    assert result.exit_code in (0, 1), result.output + result.stderr
+    drawing = tmp_path / "demo-groove-roller.dxf"
+    code, err, out = _inspect(tmp_path, drawing, "--type", "roller", "--roller-radius", "8",
+                              *layer)
+    _assert_refused(code, err, out, str(drawing), "groove", "POCKET", "blank")

@@ -465,6 +465,15 @@ def _dxf_units(name: str, doc: Any, units: str | None, default_units: str) -> tu
     return INSUNITS_MM[code], f"{_INSUNITS_NAMES[code]} ($INSUNITS {code})"
 
 
+#: The layer of a groove cam's walls in camfab's drawings (and the refusal of such a drawing:
+#: its cam is the groove, which inspect does not measure from a DXF).
+GROOVE_LAYER = "POCKET"
+GROOVE_REFUSAL = ("is a groove cam's drawing: its cam is the groove between the two walls on "
+                  "layer POCKET, and its CUT layer holds the plate's blank, not a cam outline; "
+                  "inspect measures a cam's outline, not a groove's walls (give --layer with "
+                  "the layer of an outline to read that instead)")
+
+
 def _layer_entities(name: str, msp: Any, layer: str | None) -> tuple[list[Any], str | None]:
     """The outline entities on *layer* (any case; default ``CUT`` when the drawing has it, else
     every layer), and the layer chosen. Matched in Python, never through a query string, so a
@@ -482,6 +491,12 @@ def _layer_entities(name: str, msp: Any, layer: str | None) -> tuple[list[Any], 
         more = f" and {len(shown) - 20} more" if len(shown) > 20 else ""
         raise OutlineError(name, f"has no entities on layer {layer!r} (layers: {listed}{more})")
     wanted = None if chosen is None else chosen.upper()
+    if wanted in (None, "CUT", GROOVE_LAYER) and any(
+            e.dxftype() in OUTLINE_TYPES and str(e.dxf.layer).upper() == GROOVE_LAYER
+            for e in every):
+        # a groove cam's drawing: CUT holds the plate's blank (a circle about the cam's centre,
+        # whose "lift" is none), the cam is the groove; never measure the one as the other
+        raise OutlineError(name, GROOVE_REFUSAL)
     entities = [e for e in every if e.dxftype() in OUTLINE_TYPES
                 and (wanted is None or str(e.dxf.layer).upper() == wanted)]
     return entities, chosen
