@@ -9,12 +9,14 @@ from __future__ import annotations
 import json
 import math
 import re
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
 import pytest
 import yaml
 
+from camfab.design import Design
 from camfab.design.rules import MIN_AT_SPEED
 from camfab.pipeline import analyse, design_from_text, render
 
@@ -87,25 +89,31 @@ def _finite(value: Any) -> bool:
     return not isinstance(value, float) or math.isfinite(value)
 
 
+def _trains(speed: float, mass: float, stiffness: float) -> Iterator[Design]:
+    """The valve (a spring-held follower) and the pair (a positive drive) at *speed* (rpm),
+    their followers of *mass* (kg) and *stiffness* (N/mm), the valve's spring as stiff."""
+    for data in (_valve(), _pair()):
+        data["cam"]["speed_rpm"] = speed
+        data["follower"].update({"mass": mass, "stiffness": stiffness})
+        if "spring" in data:
+            data["spring"]["rate"] = stiffness
+        yield design_from_text(yaml.safe_dump(data))
+
+
 def test_the_train_s_numbers_stay_finite_at_the_ranges_ends() -> None:
     """At the least values the design file allows for the cam's speed and the follower's mass
     and the largest for its stiffness (the train 1e13 times as fast as the cam), every number
     of the follower train is computed: finite, none left out, the natural frequency
     √((k_f + k_s)/m)."""
     speed, mass, stiffness = 1e-3, 1e-6, 1e9
-    for data in (_valve(), _pair()):
-        data["cam"]["speed_rpm"] = speed
-        data["follower"].update({"mass": mass, "stiffness": stiffness})
-        if "spring" in data:
-            data["spring"]["rate"] = stiffness
-        design = design_from_text(yaml.safe_dump(data))
+    for design in _trains(speed, mass, stiffness):
         files = render(analyse(design)).files
         dynamics = json.loads(files[f"{design.name}-report.json"])["dynamics"]
         assert _finite(dynamics)
         for key in ("natural_frequency_Hz", "dynamic_error_max_mm", "residual_vibration_mm",
                     "dynamic_min_contact_force_N", "contact_stress_max_MPa"):
             assert isinstance(dynamics[key], float), key
-        total = stiffness * (2.0 if "spring" in data else 1.0) * 1000.0
+        total = stiffness * (2.0 if design.spring is not None else 1.0) * 1000.0
         assert dynamics["natural_frequency_Hz"] == pytest.approx(
             math.sqrt(total / mass) / (2 * math.pi), rel=1e-9)
 
@@ -116,12 +124,7 @@ def test_a_train_far_slower_than_the_cam_is_an_error_with_what_to_change() -> No
     cannot follow the cam: the ``train_vibration`` check fails, says the train is far too
     soft (not that it resonates) and what to change, and no number of the train is claimed."""
     speed, mass, stiffness = 1e6, 1e6, 1e-3
-    for data in (_valve(), _pair()):
-        data["cam"]["speed_rpm"] = speed
-        data["follower"].update({"mass": mass, "stiffness": stiffness})
-        if "spring" in data:
-            data["spring"]["rate"] = stiffness
-        design = design_from_text(yaml.safe_dump(data))
+    for design in _trains(speed, mass, stiffness):
         analysis = analyse(design)
         found = {f.id: f for f in analysis.findings}
         assert found["train_vibration"].ok is False

@@ -111,7 +111,7 @@ def unsized_design(path: str | Path, keys: frozenset[str],
     DesignError/DesignFileError)."""
     path = Path(path)
     doc = read_design_file(path) if text is None else parse_yaml(text, str(path), path.parent)
-    shaped = _Shaper(doc)
+    shaped = Shaper(doc)
     data = shaped.run()
     spec = CAM_TYPES.get(_text(_get(data, "cam", "type")) or "")
     if spec is not None and not spec.auto_keys:
@@ -137,7 +137,7 @@ def _text_keys(value: Any, depth: int = 0) -> Any:
 
 def _validate(doc: SourceDocument, checks: Checks | None = None,
               sizer: Sizer | None = None) -> Design:
-    shaped = _Shaper(doc)
+    shaped = Shaper(doc)
     data = shaped.run()
     auto = _auto_keys(data, shaped)
     try:
@@ -157,7 +157,7 @@ def _validate(doc: SourceDocument, checks: Checks | None = None,
     return design
 
 
-def _model(data: dict[str, Any], doc: SourceDocument, shaped: _Shaper,
+def _model(data: dict[str, Any], doc: SourceDocument, shaped: Shaper,
            sizing: frozenset[str] = frozenset(), sized: Sized | None = None) -> Design:
     """The design model of the shaped *data*, its rules checked (those that need the keys in
     *sizing* left for the sized design); pydantic's errors as camfab's."""
@@ -170,7 +170,7 @@ def _model(data: dict[str, Any], doc: SourceDocument, shaped: _Shaper,
         return Design.model_validate({**data, "source": doc.file, "sized": sized},
                                      context=context)
     except ValidationError as exc:
-        raise _first_error(exc, doc, shaped) from None
+        raise first_error(exc, doc, shaped) from None
 
 
 def _with_type_tolerance(data: dict[str, Any], units: str) -> dict[str, Any]:
@@ -186,7 +186,7 @@ def _with_type_tolerance(data: dict[str, Any], units: str) -> dict[str, Any]:
     return {**data, "manufacturing": {**made, "tolerance": tolerance}}
 
 
-def _rule_error(exc: RuleViolation, doc: SourceDocument, shaped: _Shaper) -> DesignError:
+def _rule_error(exc: RuleViolation, doc: SourceDocument, shaped: Shaper) -> DesignError:
     """A broken rule as camfab's message on the line of the key it names."""
     yaml_path = shaped.yaml_path(exc.path)
     got = doc.value_at(yaml_path) if exc.show_got else None
@@ -200,7 +200,7 @@ def _rule_error(exc: RuleViolation, doc: SourceDocument, shaped: _Shaper) -> Des
     )
 
 
-def _auto_keys(data: dict[str, Any], shaped: _Shaper) -> frozenset[str]:
+def _auto_keys(data: dict[str, Any], shaped: Shaper) -> frozenset[str]:
     """The keys the design gives as ``auto`` (``section.key``); one its cam type does not size
     is reported on its line."""
     spec = CAM_TYPES.get(_text(_get(data, "cam", "type")) or "")
@@ -218,7 +218,7 @@ def _auto_keys(data: dict[str, Any], shaped: _Shaper) -> frozenset[str]:
     return frozenset(found)
 
 
-def _not_sizable(shaped: _Shaper, spec: CamTypeSpec) -> NoReturn:
+def _not_sizable(shaped: Shaper, spec: CamTypeSpec) -> NoReturn:
     """Refuse to size a cam of a type camfab does not size, on its ``cam.type`` line."""
     sized = {key: [name for name, row in CAM_TYPES.items() if key in row.auto_keys]
              for key in ("cam.base_radius", "cam.radius")}
@@ -228,7 +228,7 @@ def _not_sizable(shaped: _Shaper, spec: CamTypeSpec) -> NoReturn:
                 f"{', '.join(sized['cam.radius'])} (drum) cams", show_got=False)
 
 
-def _not_sized(shaped: _Shaper, path: tuple[str, ...], spec: CamTypeSpec) -> NoReturn:
+def _not_sized(shaped: Shaper, path: tuple[str, ...], spec: CamTypeSpec) -> NoReturn:
     key = f"{path[0]}.{path[1]}"
     sizable = [name for name, row in CAM_TYPES.items() if key in row.auto_keys]
     reason = ("its shape sets its motion; " if spec.shaped else
@@ -274,7 +274,7 @@ def _text(value: Any) -> str | None:
     return value if isinstance(value, str) else None
 
 
-class _Shaper:
+class Shaper:
     """Structural pass: unknown keys (with suggestions), motion segments flattened, CSV read."""
 
     def __init__(self, doc: SourceDocument) -> None:
@@ -496,7 +496,7 @@ _PYDANTIC_PROBLEMS = {
 }
 
 
-def _first_error(exc: ValidationError, doc: SourceDocument, shaped: _Shaper) -> DesignError:
+def first_error(exc: ValidationError, doc: SourceDocument, shaped: Shaper) -> DesignError:
     """The pydantic error nearest the top of the file, as a camfab message."""
     best: tuple[int, DesignError] | None = None
     for err in exc.errors(include_url=False):

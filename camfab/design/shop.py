@@ -30,7 +30,7 @@ from pydantic import ValidationError
 
 from camfab.design import units as U
 from camfab.design.fields import Frozen, PositiveLength, field_kind
-from camfab.design.loader import _first_error, _Shaper  # the design file's own reading
+from camfab.design.loader import Shaper, first_error  # the design file's own reading
 from camfab.design.machining import Machining, PositiveFeed
 from camfab.design.source import (
     MAX_DESIGN_BYTES,
@@ -107,7 +107,7 @@ def shop_from_text(text: str, file: str = "<shop>") -> Shop:
         raise DesignError("machining settings must be a mapping with a machining: section",
                           location=Location(file, root.start_mark.line + 1, ""), got=data)
     doc = SourceDocument(file=file, data=data, lines=lines, folder=Path(file).parent)
-    shaped = _Shaper(doc)
+    shaped = Shaper(doc)
     for key in data:
         if key not in SHOP_KEYS:
             hint = ("give it under machining:" if key in MACHINING_KEYS
@@ -122,7 +122,7 @@ def shop_from_text(text: str, file: str = "<shop>") -> Shop:
     try:
         ShopSettings.model_validate(data, context=context)
     except ValidationError as exc:
-        raise _first_error(exc, doc, shaped) from None
+        raise first_error(exc, doc, shaped) from None
     return Shop(doc, context["units"])
 
 
