@@ -365,7 +365,9 @@ def _read_ply(name: str, data: bytes) -> tuple[Array, Array | None, np.ndarray |
     kind = "binary" if order else "ASCII"
     with_normals = " with normals" if normals is not None else ""
     if faces is None:
-        return points, normals, None, f"{len(points):,} points{with_normals} from an {kind} PLY"
+        article = "a" if order else "an"
+        return (points, normals, None,
+                f"{len(points):,} points{with_normals} from {article} {kind} PLY")
     return (points, normals, faces, f"a {kind} PLY mesh of {len(faces):,} triangles "
             f"({len(points):,} vertices{with_normals})")
 
