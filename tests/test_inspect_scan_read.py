@@ -213,9 +213,10 @@ def test_ply_refusals(tmp_path: Path, sphere: trimesh.Trimesh) -> None:
     path.write_bytes(text.replace(face, b"\n4 0 11 5 6\n", 1))
     _refused(path, "5 values in a row", line=lines + 162)
     vertex = text.split(b"end_header\n")[1].split(b"\n")[3]
-    path.write_bytes(text.replace(vertex, b"1 2 inf", 1))
+    vertex = b"\n" + vertex + b"\n"  # the whole line (one vertex's text ends another's)
+    path.write_bytes(text.replace(vertex, b"\n1 2 inf\n", 1))
     _refused(path, "finite")
-    path.write_bytes(text.replace(vertex, b"1 2", 1))
+    path.write_bytes(text.replace(vertex, b"\n1 2\n", 1))
     _refused(path, "2 values", line=lines + 3)
     path.write_bytes(text + b"1 2 3\n")
     _refused(path, "more lines than its header says")
