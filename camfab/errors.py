@@ -151,6 +151,10 @@ class OutlineError(CamfabError, ValueError):
         super().__init__(" ".join(f"{where}: {problem}".split()))
 
 
+class ScanError(OutlineError):
+    """A 3-D scan file that cannot be used: ``FILE[:LINE]: problem``."""
+
+
 class InspectionError(CamfabError, ValueError):
     """An inspection that cannot be run: ``WHAT: problem`` (a file or an option)."""
 
