@@ -110,19 +110,14 @@ def _write(program: Program, design: Design, settings: Machining, d: Drum,
     length of each feed move over its feed), and the toolpath unrolled (X, A mod 360°)."""
     from camfab import __version__
 
-    for text in (f"camfab {__version__}: {design.name}, drum cam, groove cut on X, Z and A",
-                 f"tool T1: flat end mill, centre-cutting, diameter "
-                 f"{_length(design, settings.tool_diameter)}, {settings.flutes} flutes",
-                 f"work zero: {work_zero(design, d, ascii=True)}",
-                 "feeds: G93 inverse time on moves that turn A (the feed holds at the top of "
-                 "the layer each cuts), G94 on plunges and steps along X"):
-        for line in textwrap.wrap(text, COMMENT_WIDTH):
-            program.comment(line)
-    program.block("G21" if design.units == "mm" else "G20")
-    program.block("G17 G90 G40 G49 G80 G94")
-    program.block("T1 M6")
-    program.block("G43 H1")
-    program.block(f"S{terse(settings.spindle_rpm, 6)} M3")
+    header = (f"camfab {__version__}: {design.name}, drum cam, groove cut on X, Z and A",
+              f"tool T1: flat end mill, centre-cutting, diameter "
+              f"{_length(design, settings.tool_diameter)}, {settings.flutes} flutes",
+              f"work zero: {work_zero(design, d, ascii=True)}",
+              "feeds: G93 inverse time on moves that turn A (the feed holds at the top of "
+              "the layer each cuts), G94 on plunges and steps along X")
+    program.opening([line for text in header for line in textwrap.wrap(text, COMMENT_WIDTH)],
+                    settings.spindle_rpm)
     safe = d.radius + settings.safe_z
     program.block("G0", program.word("Z", safe))
     feed, plunge = settings.feed, settings.plunge
@@ -160,8 +155,7 @@ def _write(program: Program, design: Design, settings: Machining, d: Drum,
         program.block("G0", program.word("Z", safe))
         z_now = safe
         operations.append(Operation(cut.name, 1, feed, float(minutes), len(cut.laps)))
-    program.block("M5")
-    program.block("M30")
+    program.closing()
     return operations, Toolpath(X_LABEL, Y_LABEL, np.array(cutting).reshape(-1, 2),
                                 np.array(rapid).reshape(-1, 2))
 

@@ -65,19 +65,12 @@ def program_text(design: Design, settings: Machining, blank: GloboidCam, table: 
                  passes: list[Pass]) -> bytes:
     """The RS274NGC program of *passes* (LinuxCNC; lengths in the design's units)."""
     p = Program(design.units, settings.dialect)
-    p.comment(f"camfab {__version__}: {design.name}, globoidal cam ({design.cam.globoid})")
-    p.comment(f"T1: {settings.tool_diameter:.6g} mm flat end mill, {settings.flutes} flutes, "
-              f"{settings.length_of_cut:.6g} mm length of cut")
-    for line in textwrap.wrap(f"work zero {work_zero(design, blank, table)}; a table-table "
-                              "machine without tool-centre point control: X Y Z are the "
-                              "cutter's tip with the tables turned".translate(_ASCII),
-                              COMMENT_WIDTH):
-        p.comment(line)
-    p.block("G21" if design.units == "mm" else "G20")
-    p.block("G17 G90 G40 G49 G80 G94")
-    p.block("T1 M6")
-    p.block("G43 H1")
-    p.block(f"S{settings.spindle_rpm:.0f} M3")
+    zero = textwrap.wrap(f"work zero {work_zero(design, blank, table)}; a table-table "
+                         "machine without tool-centre point control: X Y Z are the "
+                         "cutter's tip with the tables turned".translate(_ASCII), COMMENT_WIDTH)
+    p.opening((f"camfab {__version__}: {design.name}, globoidal cam ({design.cam.globoid})",
+               f"T1: {settings.tool_diameter:.6g} mm flat end mill, {settings.flutes} flutes, "
+               f"{settings.length_of_cut:.6g} mm length of cut", *zero), settings.spindle_rpm)
     top = clearance(blank, table, settings.safe_z)
     p.block("G0", p.word("Z", top))
     axes = axes_of(passes)
@@ -96,8 +89,7 @@ def program_text(design: Design, settings: Machining, blank: GloboidCam, table: 
         p.moves("G1", axes, points[1:], 1.0 / move_minutes(cut, settings.feed))
         p.block("G94")
         p.block("G0", p.word("Z", top))
-    p.block("M5")
-    p.block("M30")
+    p.closing()
     return p.text()
 
 

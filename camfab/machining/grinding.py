@@ -178,28 +178,22 @@ def grind_program(analysis: Analysis, stem: str, table: GrindTable,
                  f"drawn in its DXF, on the wheel's line, C growing as the cam turns {rotation} "
                  f"seen from the face the DXF draws")
     program = Program(design.units, settings.dialect)
-    for text in (f"camfab {__version__}: cam grinding program",
-                 f"design {design.name}, plate {stem}",
-                 f"tool 1: grinding wheel {settings.wheel_diameter:g} mm across",
-                 f"work zero: {work_zero}",
-                 f"{len(table.c)} positions within {design.manufacturing.tolerance:g} mm; C-X "
-                 f"moves in inverse time: the cam's surface passes the wheel at "
-                 f"{settings.feed:g} mm/min"):
-        for line in textwrap.wrap(text, COMMENT_WIDTH):
-            program.comment(line)
-    program.block("G21" if design.units == "mm" else "G20")
-    program.block("G17 G90 G40 G49 G80 G94")
-    program.block("G8")  # radius mode: X is the wheel centre's radius
-    program.block("T1 M6")
-    program.block("G43 H1")
-    program.block(f"S{rpm:.0f} M3")
+    header = (f"camfab {__version__}: cam grinding program",
+              f"design {design.name}, plate {stem}",
+              f"tool 1: grinding wheel {settings.wheel_diameter:g} mm across",
+              f"work zero: {work_zero}",
+              f"{len(table.c)} positions within {design.manufacturing.tolerance:g} mm; C-X "
+              f"moves in inverse time: the cam's surface passes the wheel at "
+              f"{settings.feed:g} mm/min")
+    # G8, radius mode: X is the wheel centre's radius; the speed in whole rpm, as the notes say
+    program.opening([line for text in header for line in textwrap.wrap(text, COMMENT_WIDTH)],
+                    round(rpm), modes=("G8",))
     program.moves("G0", "X", np.array([[safe]]))
     program.moves("G0", "C", np.array([[0.0]]))
     operations, cutting = _turns(program, table, settings, safe)
     program.block("G94")
     program.moves("G0", "X", np.array([[safe]]))
-    program.block("M5")
-    program.block("M30")
+    program.closing()
     end = float(cutting[-1, 0])
     notes = [f"the wheel's centre moves on X, a radius from the cam's axis (G8: no diameter "
              f"mode); each turn is {len(table.c) - 1} C–X moves in inverse time (G93)"]

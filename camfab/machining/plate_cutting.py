@@ -254,15 +254,8 @@ class Cutting:
                 f"the tool centre's path for a tool of diameter "
                 f"{words.length(settings.tool_diameter)} (no compensation by the control)")
         program = Program(design.units, settings.dialect)
-        program.comment(f"camfab {__version__}: {stem}.ngc, design {design.name}")
-        for line in (tool, f"work zero: {zero}", f"stock: {stock}", form):
-            program.comment(line)
-        program.block("G21" if design.units == "mm" else "G20")
-        program.block("G17 G90 G94" if grbl else "G17 G90 G40 G49 G80 G94")
-        if not grbl:
-            program.block("T1 M6")
-            program.block("G43 H1")
-        program.block(f"S{_rpm(settings.spindle_rpm)} M3")
+        program.opening((f"camfab {__version__}: {stem}.ngc, design {design.name}", tool,
+                         f"work zero: {zero}", f"stock: {stock}", form), settings.spindle_rpm)
         program.block("G0", program.word("Z", settings.safe_z))
         first = next(m for _, moves, _, _ in blocks for m in moves if m.end is not None)
         assert first.end is not None
@@ -281,8 +274,7 @@ class Cutting:
             last = next(m for m in reversed(centre) if m.end is not None)
             assert last.end is not None
             position = np.array(last.end)
-        program.block("M5")
-        program.block("M30")
+        program.closing()
         feeds = f"{words.length(settings.plunge)}/min"
         notes = [f"each pass enters in the air {words.length(ENTRY_CLEARANCE_MM)} above the top "
                  f"face and goes round its contour once a depth: down a ramp along it (at most "
@@ -361,8 +353,3 @@ def stock_words(design: Design, outline: Profile, thickness: float, settings: Ma
             f"{words.length(high[1])}",
             "X0 Y0 where the DXF has them (travel 0 on the plate's bottom edge), Z0 on the top "
             "face, Z up")
-
-
-def _rpm(rpm: float) -> str:
-    text = f"{rpm:.1f}"
-    return text.rstrip("0").rstrip(".")

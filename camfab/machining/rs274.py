@@ -8,6 +8,8 @@ plane). A :class:`Program` collects blocks; moves along arrays of points are for
 
 from __future__ import annotations
 
+from collections.abc import Iterable
+
 import numpy as np
 
 from camfab.arrays import Array
@@ -38,6 +40,28 @@ class Program:
     def block(self, *words: str) -> None:
         """One block of *words* (already formatted, e.g. ``"G0"``, ``self.word("X", 1.0)``)."""
         self.lines.append(" ".join(w for w in words if w))
+
+    def opening(self, header: Iterable[str], rpm: float, modes: tuple[str, ...] = ()) -> None:
+        """The program's opening: *header* as comment blocks, the length unit (G21 or G20),
+        the modal state (G17 G90 G94, and for LinuxCNC G40 G49 G80 too), then *modes* (each a
+        block), tool 1 loaded with its length offset (LinuxCNC: Grbl has no tool table), and
+        the spindle turning clockwise at *rpm* (to 0.1 rpm)."""
+        grbl = self.dialect == "grbl"
+        for line in header:
+            self.comment(line)
+        self.block("G21" if self.units == "mm" else "G20")
+        self.block("G17 G90 G94" if grbl else "G17 G90 G40 G49 G80 G94")
+        for mode in modes:
+            self.block(mode)
+        if not grbl:
+            self.block("T1 M6")
+            self.block("G43 H1")
+        self.block(f"S{_number(rpm, 1)} M3")
+
+    def closing(self) -> None:
+        """The program's end: the spindle stopped, the program ended (M30: rewound)."""
+        self.block("M5")
+        self.block("M30")
 
     def word(self, axis: str, value: float) -> str:
         """*axis*'s word for *value* (mm, or degrees for A/B/C; a feed in mm/min for ``F``)."""
