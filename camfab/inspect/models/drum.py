@@ -1,0 +1,108 @@
+"""A drum (cylindrical) cam's groove for inspecting a scan of it: its two walls sampled exactly,
+and the gauge roller run over them (THEORY §C; frame of :mod:`camfab.geometry.drum`).
+
+The follower's coordinate q is its lift s (mm along the drum's axis). A wall point at radius r
+and polar angle ϕ touches the roller whose axis is the radial line at α = −σθ, at height
+start + q, when r²sin²(ϕ − α) + (z − start − q)² = R² with R the wall's distance from the axis
+(the roller's radius plus half the groove's clearance) and r cos(ϕ − α) > 0: the lower wall
+bounds q from below at q = z + √(R² − w²) − start (w = r sin(ϕ − α)), the upper wall from above
+at z − √(R² − w²) − start.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from camfab.arrays import Array, Index
+from camfab.geometry.drum import Drum, polar_to_xy
+from camfab.inspect.surface import FlankGrid, windowed_run
+
+if TYPE_CHECKING:
+    from camfab.analysis.record import Analysis
+
+#: Largest spacing (mm) of the columns across a flank (from the groove's floor to the surface).
+ACROSS_STEP_MM = 0.25
+
+#: Fewest columns across a flank.
+MIN_COLUMNS = 9
+
+
+@dataclass(frozen=True)
+class DrumScan:
+    """The drum's groove as :class:`~camfab.inspect.surface.ScanModel` (see the module)."""
+
+    drum: Drum
+    theta: Array
+    motion: Array
+    flanks: tuple[FlankGrid, ...]
+    clearance: float
+    analysis: Analysis = field(repr=False)
+    q_scale: float = 1.0
+    q_unit: str = "mm"
+    map_u_label: str = "R·θ at the drum's surface (mm)"
+
+    @property
+    def map_u(self) -> Array:
+        return self.drum.radius * self.theta
+
+    def design(self) -> Array:
+        return self.motion[0]
+
+    def run(self, flank: FlankGrid, points: Array) -> Array:
+        d = self.drum
+        step = float(self.theta[1] - self.theta[0])
+        reach = math.asin(min(1.0, d.roller / max(d.root, d.roller)))
+        window = math.ceil(reach / step) + 2
+        return windowed_run(points, self.theta, flank.side, window, self._bounds)
+
+    def _bounds(self, points: Array, theta: Array, side: int) -> Array:
+        """The lift (mm) at which the gauge roller at cam angles *theta* touches *points*."""
+        d = self.drum
+        x, y, z = points[..., 0], points[..., 1], points[..., 2]
+        r = np.hypot(x, y)
+        delta = np.arctan2(-x, y) - d.axis_angle(theta)
+        w = r * np.sin(delta)
+        rise = np.sqrt(d.roller * d.roller - w * w)  # NaN off the roller's footprint
+        rise = np.where(r * np.cos(delta) > 0.0, rise, np.nan)
+        return z - d.start + (rise if side < 0 else -rise)
+
+    def pressure_angle(self, q: Array, dq: Array) -> Array:
+        return self.drum.pressure_angle(dq, self.drum.pitch)
+
+    def reference_mesh(self) -> tuple[Array, Index]:
+        from camfab.inspect.models.part_mesh import part_mesh
+
+        return part_mesh(self.analysis)
+
+
+def scan_model(analysis: Analysis, step: float) -> DrumScan:
+    """The drum of *analysis* sampled on rows *step* (rad) apart (see the module)."""
+    from camfab.geometry.drum import drum
+
+    design = analysis.design
+    d = drum(design)
+    theta = step * np.arange(round(2.0 * math.pi / step), dtype=np.float64)
+    motion = analysis.program.evaluate(theta)
+    columns = max(MIN_COLUMNS, math.ceil(d.depth / ACROSS_STEP_MM) + 1)
+    radii = np.linspace(d.root, d.radius, columns)
+    s, ds = motion[0][:, None], motion[1][:, None]
+    walls = d.walls(theta[:, None], s, ds, radii[None, :])
+    centre = d.start + s
+    flanks = []
+    for name, side, phi, z in (("lower wall", -1, walls.phi_lower, walls.z_lower),
+                               ("upper wall", 1, walls.phi_upper, walls.z_upper)):
+        xy = polar_to_xy(radii[None, :], phi)
+        points = np.concatenate((xy, np.broadcast_to(z, phi.shape)[..., None]), axis=-1)
+        # toward the roller's axis: its point nearest the wall point, less the wall point
+        along = radii[None, :] * np.cos(phi - d.axis_angle(theta)[:, None])
+        foot = np.concatenate((polar_to_xy(along, np.broadcast_to(
+            d.axis_angle(theta)[:, None], phi.shape)), np.broadcast_to(
+                centre, phi.shape)[..., None]), axis=-1)
+        normals = (foot - points) / d.roller
+        flanks.append(FlankGrid(name, side, points, normals, radii - d.root))
+    clearance = float(design.follower.groove_clearance)
+    return DrumScan(d, theta, motion, tuple(flanks), clearance, analysis)
