@@ -293,10 +293,11 @@ def _ring_windows(centre: Array, reach: Array, pivot: Array,
     return [(tau + g1, tau + g2), (tau - g2, tau - g1)]
 
 
-def _arm_angle(points: Array, fol: FollowerGeometry) -> Array:
-    """The arm angle Ψ (rad) that puts the trace point at frame *points*; −inf below the X axis."""
-    psi = np.arctan2(points[:, 1], fol.pivot_distance - fol.pivot_sign * points[:, 0])
-    return np.where(points[:, 1] >= 0.0, psi, -np.inf)
+def arm_angle(points: Array, fol: FollowerGeometry) -> Array:
+    """The arm angle Ψ (rad) that puts the trace point at frame *points* ((..., 2), mm); −inf
+    below the X axis."""
+    psi = np.arctan2(points[..., 1], fol.pivot_distance - fol.pivot_sign * points[..., 0])
+    return np.where(points[..., 1] >= 0.0, psi, -np.inf)
 
 
 def _swinging_circle(off: OffsetPieces, fol: FollowerGeometry, grid: _Grid) -> None:
@@ -317,7 +318,7 @@ def _swinging_circle(off: OffsetPieces, fol: FollowerGeometry, grid: _Grid) -> N
                     hit = base + (sign * across)[:, None] * perp(d)
                     angle = grid.to_cam_angle(np.arctan2(hit[:, 1] - c[:, 1],
                                                          hit[:, 0] - c[:, 0]), k)
-                    grid.keep(k, np.where(circles.in_span(angle, f), _arm_angle(hit, fol),
+                    grid.keep(k, np.where(circles.in_span(angle, f), arm_angle(hit, fol),
                                           -np.inf))
     mid, half = 0.5 * (off.q1 + off.q2), 0.5 * np.hypot(*(off.q2 - off.q1).T) + _SLACK
     for lo, hi in _ring_windows(mid, half, pivot, arm):
@@ -331,7 +332,7 @@ def _swinging_circle(off: OffsetPieces, fol: FollowerGeometry, grid: _Grid) -> N
             with np.errstate(invalid="ignore", divide="ignore"):
                 root = np.sqrt(qb * qb - 4 * qa * qc)
                 for t in ((-qb + root) / (2 * qa), (-qb - root) / (2 * qa)):
-                    psi = _arm_angle(a + t[:, None] * d, fol)
+                    psi = arm_angle(a + t[:, None] * d, fol)
                     grid.keep(k, np.where((t >= -_SLACK) & (t <= 1.0 + _SLACK), psi, -np.inf))
 
 
@@ -359,12 +360,13 @@ def _sliding_face(profile: Profile, grid: _Grid) -> None:
             grid.keep(k, grid.frame(circles.centre[f], k)[:, 1] + circles.radius[f])
 
 
-def _face_angle(points: Array, distance: Array | float, pivot: Array,
+def face_angle(points: Array, distance: Array | float, pivot: Array,
                 fol: FollowerGeometry) -> Array:
     """The smallest arm angle Ψ (rad) at which the face line, at *distance* from the pivot, clears
-    frame *points*: ``(P − A)·n(Ψ) = distance`` with n = (−p sin Ψ, −cos Ψ) toward the cam."""
+    frame *points* ((..., 2), mm): ``(P − A)·n(Ψ) = distance`` with n = (−p sin Ψ, −cos Ψ)
+    toward the cam; −inf outside [0, π]."""
     d = points - pivot
-    a1, b1 = -fol.pivot_sign * d[:, 0], -d[:, 1]
+    a1, b1 = -fol.pivot_sign * d[..., 0], -d[..., 1]
     with np.errstate(invalid="ignore", divide="ignore"):
         psi = np.arcsin(distance / np.hypot(a1, b1)) - np.arctan2(b1, a1)
     psi = np.mod(psi + math.pi, TWO_PI) - math.pi
@@ -398,10 +400,10 @@ def _touch_face(grid: _Grid, corners: Array, circles: CirclePieces, fol: Followe
                 arc_hi: Array) -> None:
     """The swinging face against corners and convex arcs, within the windows of σθ given."""
     for f, k in grid.turned(corner_lo, corner_hi):
-        grid.keep(k, _face_angle(grid.frame(corners[f], k), fol.face_offset, pivot, fol))
+        grid.keep(k, face_angle(grid.frame(corners[f], k), fol.face_offset, pivot, fol))
     if len(circles):
         for f, k in grid.turned(arc_lo, arc_hi):
-            psi = _face_angle(grid.frame(circles.centre[f], k),
+            psi = face_angle(grid.frame(circles.centre[f], k),
                               fol.face_offset + circles.radius[f], pivot, fol)
             outward = grid.to_cam_angle(math.pi / 2 - fol.pivot_sign * psi, k)
             grid.keep(k, np.where(circles.in_span(outward, f), psi, -np.inf))
