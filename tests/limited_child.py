@@ -70,14 +70,17 @@ def limits(cpu_s: float, address_space: int = ADDRESS_SPACE):  # type: ignore[no
 
 
 def run_limited(command: list[str], cpu_s: float, wall_s: float,
-                address_space: int = ADDRESS_SPACE, cwd: Path | None = None) -> ChildRun:
+                address_space: int = ADDRESS_SPACE, cwd: Path | None = None,
+                env: dict[str, str] | None = None) -> ChildRun:
     """Run *command* (argv) with at most *cpu_s* CPU seconds and *address_space* bytes; kill it
     after *wall_s* seconds of wall-clock time (a backstop). Its output goes through files, so a
-    chatty child cannot block on a full pipe."""
+    chatty child cannot block on a full pipe. Its environment is *env*, by default
+    :func:`child_env`'s."""
     with tempfile.TemporaryFile() as out, tempfile.TemporaryFile() as err:
         started = time.monotonic()
         proc = subprocess.Popen(command, stdout=out, stderr=err, stdin=subprocess.DEVNULL,
-                                cwd=cwd, env=child_env(), preexec_fn=limits(cpu_s, address_space))
+                                cwd=cwd, env=child_env() if env is None else env,
+                                preexec_fn=limits(cpu_s, address_space))
         status, usage = _reap(proc, started + wall_s)
         wall = time.monotonic() - started
         out.seek(0)
