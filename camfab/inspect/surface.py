@@ -28,6 +28,12 @@ import numpy as np
 
 from camfab.arrays import Array
 
+#: Largest spacing (mm) of a flank grid's columns (across the flank).
+ACROSS_STEP_MM = 0.25
+
+#: Fewest columns of a flank grid.
+MIN_COLUMNS = 9
+
 
 @dataclass(frozen=True)
 class FlankGrid:

@@ -19,16 +19,13 @@ import numpy as np
 
 from camfab.arrays import Array, Index
 from camfab.geometry.drum import Drum, polar_to_xy
-from camfab.inspect.surface import FlankGrid, windowed_run
+from camfab.inspect.surface import ACROSS_STEP_MM, MIN_COLUMNS, FlankGrid, windowed_run
+from camfab.motion.program import cycle_angles
 
 if TYPE_CHECKING:
     from camfab.analysis.record import Analysis
 
-#: Largest spacing (mm) of the columns across a flank (from the groove's floor to the surface).
-ACROSS_STEP_MM = 0.25
 
-#: Fewest columns across a flank.
-MIN_COLUMNS = 9
 
 
 @dataclass(frozen=True)
@@ -85,7 +82,7 @@ def scan_model(analysis: Analysis, step: float) -> DrumScan:
 
     design = analysis.design
     d = drum(design)
-    theta = step * np.arange(round(2.0 * math.pi / step), dtype=np.float64)
+    theta = cycle_angles(step)
     motion = analysis.program.evaluate(theta)
     columns = max(MIN_COLUMNS, math.ceil(d.depth / ACROSS_STEP_MM) + 1)
     radii = np.linspace(d.root, d.radius, columns)

@@ -24,17 +24,13 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from camfab.inspect.surface import FlankGrid, windowed_run
+from camfab.inspect.surface import ACROSS_STEP_MM, MIN_COLUMNS, FlankGrid, windowed_run
 
 if TYPE_CHECKING:
     from camfab.analysis.record import Analysis
     from camfab.arrays import Array, Index
     from camfab.geometry.globoid_cam import GloboidCam
 
-#: Largest spacing of a wall's columns along the roller (mm).
-ACROSS_STEP_MM = 0.25
-#: Fewest columns across a wall.
-MIN_COLUMNS = 9
 #: How far beyond the gauge roller's radius (mm) a point moved off the design's wall is still
 #: sought in the run's window of rows: deviations of a made part are well inside it.
 WINDOW_MARGIN_MM = 1.0

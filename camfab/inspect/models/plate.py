@@ -27,7 +27,7 @@ import numpy as np
 from camfab.curves.plane import perp
 from camfab.errors import InspectionError
 from camfab.inspect.models.plate_run import WINDOW_MARGIN_MM, Rider, fit_window
-from camfab.inspect.surface import FlankGrid
+from camfab.inspect.surface import ACROSS_STEP_MM, MIN_COLUMNS, FlankGrid
 from camfab.motion.program import cycle_angles
 
 if TYPE_CHECKING:
@@ -35,11 +35,7 @@ if TYPE_CHECKING:
     from camfab.arrays import Array, Index
     from camfab.geometry.disc import DiscCam
 
-#: Largest spacing of a flank's columns through the plate (mm).
-ACROSS_STEP_MM = 0.25
 
-#: Fewest columns across a flank.
-MIN_COLUMNS = 9
 
 #: The deviation maps' horizontal axis.
 CAM_ANGLE_LABEL = "cam angle (°)"
