@@ -28,6 +28,7 @@ if TYPE_CHECKING:
     from camfab.analysis.record import Analysis
     from camfab.design.shop import Shop
     from camfab.inspect import Inspection, InspectOptions
+    from camfab.inspect.scan_run import ScanResult
     from camfab.sweep.run import SweepOptions
 
 STARTER_KINDS = ("disc-roller", "disc-knife", "disc-flat", "disc-mushroom", "oscillating",
@@ -393,6 +394,15 @@ def new(kind: str | None) -> None:
 @click.option("--kerf", metavar="K", help="The outline is a laser's path: take kerf/2 off "
                                            "(default: what a camfab DXF's note says, else 0).")
 @click.option("--align", is_flag=True, help="Turn the outline into phase with the design first.")
+@click.option("--scan", is_flag=True, help="Read PROFILE as a 3-D scan (x, y, z points) even "
+                                           "when it is the CSV of a disc cam.")
+@click.option("--fixtured", is_flag=True, help="Scan: its coordinates are the cam's (its axis "
+                                               "Z, as a CMM's fixture holds it); only the phase "
+                                               "is fitted. Default: a free rigid fit.")
+@click.option("--fit", metavar="LENGTH", help="Scan: size of the box its deviation is averaged "
+                                              "over before the follower is run (default 1 mm).")
+@click.option("--gate", metavar="LENGTH", help="Scan: points farther from their flank are set "
+                                               "aside (default 1 mm).")
 @click.option("-o", "--output", "out_dir", type=click.Path(file_okay=False, path_type=Path),
               help="Write the files into DIR instead of exports/<stem>-inspection/.",
               metavar="DIR")
@@ -401,11 +411,14 @@ def inspect(profile: Path, design: Path | None, follower_file: Path | None, kind
             pivot_distance: str | None, arm_length: str | None, pivot_side: str | None,
             face_offset: str | None, rotation: str | None, speed: str | None, units: str | None,
             layer: str | None, centre: str | None, step: str | None, smooth: str | None,
-            tolerance: str | None, kerf: str | None, align: bool, out_dir: Path | None) -> None:
-    """Inspect a made or scanned cam: PROFILE is its outline (DXF, or CSV of x, y points).
+            tolerance: str | None, kerf: str | None, align: bool, scan: bool, fixtured: bool,
+            fit: str | None, gate: str | None, out_dir: Path | None) -> None:
+    """Inspect a made or scanned cam. PROFILE is its outline (DXF, or CSV of x, y points), or a
+    3-D scan or CMM points of any cam (PLY, STL, or CSV of x, y, z and optionally the normal).
 
-    Runs the follower over the outline and writes the lift table, the JSON and HTML reports;
-    with --design, the deviation from the design's motion (exit 1 when over the tolerance).
+    Runs the follower over the outline (or the scanned flanks) and writes the lift table, the
+    JSON and HTML reports; with --design, the deviation from the design's motion (exit 1 when
+    over the tolerance). A scan needs --design; it is placed on the part by a best fit.
     """
     given = {"type": kind, "roller_radius": roller_radius, "face_radius": face_radius,
              "offset": offset, "pivot_distance": pivot_distance, "arm_length": arm_length,
@@ -414,14 +427,18 @@ def inspect(profile: Path, design: Path | None, follower_file: Path | None, kind
 
     options = InspectOptions(
         profile, design, follower_file, {k: v for k, v in given.items() if v is not None},
-        rotation, speed, units, layer, centre, step, smooth, tolerance, kerf, align, out_dir)
+        rotation, speed, units, layer, centre, step, smooth, tolerance, kerf, align, out_dir,
+        scan, fixtured, fit, gate)
     sys.exit(_finish([_guarded(str(profile), lambda: _inspect_one(options))]))
 
 
 def _inspect_one(options: InspectOptions) -> Outcome:
     from camfab.inspect import inspect as run_inspection
+    from camfab.inspect.scan_run import ScanResult
 
     result = run_inspection(options)
+    if isinstance(result, ScanResult):
+        return _scan_outcome(result, options)
     ins = result.inspection
     stem = options.profile.stem
     worst = ins.max_deviation()
@@ -435,6 +452,23 @@ def _inspect_one(options: InspectOptions) -> Outcome:
                 f"{ins.setup.tolerance:.3g} mm")
         if ins.align is not None:
             head += f"; turned {math.degrees(ins.align):.4g}° into phase"
+    lines = [f"{head} — wrote {len(result.written)} file(s) to {result.folder}/"]
+    lines += [f"  {p.name}" for p in result.written]
+    lines += [f"  {f.mark} {f.id}: {f.message}" for f in ins.findings if not f.ok]
+    return Outcome(result.exit_code, out=lines)
+
+
+def _scan_outcome(result: ScanResult, options: InspectOptions) -> Outcome:
+    ins = result.inspection
+    worst = ins.worst()
+    assert worst is not None
+    state = "FAIL" if result.exit_code else "PASS"
+    aside = ins.deviations.aside
+    head = (f"{options.profile.stem}: {state} — lift error through the scanned flanks "
+            f"{worst[0]:.3g} mm at most (on the {worst[1]}, at {worst[2]:.4g}°), tolerance "
+            f"{ins.setup.tolerance:.3g} mm; {len(ins.scan.points) - aside:,} of "
+            f"{len(ins.scan.points):,} points on the flanks, placed with a residual of "
+            f"{ins.alignment.residual_mm:.2g} mm")
     lines = [f"{head} — wrote {len(result.written)} file(s) to {result.folder}/"]
     lines += [f"  {p.name}" for p in result.written]
     lines += [f"  {f.mark} {f.id}: {f.message}" for f in ins.findings if not f.ok]

@@ -103,7 +103,7 @@ class Style:
 
 @dataclass
 class _Item:
-    kind: str  # line, fill, hline, vline, text, arrow, extent
+    kind: str  # line, fill, hline, vline, text, arrow, extent, image
     zorder: float
     style: Style
     label: str | None = None
@@ -322,6 +322,15 @@ class Axes:
         self._add(_Item("hline", 2.0, Style(color, linewidth, linestyle), label,
                                 y=np.array([float(y)])))
 
+    def image(self, png: bytes, x: tuple[float, float], y: tuple[float, float]) -> None:
+        """A raster (PNG bytes, :mod:`camfab.export.png`) stretched over the data rectangle
+        from *x*[0] to *x*[1] across and *y*[0] to *y*[1] up (its first row at the top)."""
+        from base64 import b64encode
+
+        self.include(list(x), list(y))
+        self._add(_Item("image", 0.5, Style(), None, np.array(x, dtype=float),
+                        np.array(y, dtype=float), b64encode(png).decode("ascii")))
+
     def axvspan(self, x0: float, x1: float, *, color: str, alpha: float = 1.0,
                 label: str | None = None) -> None:
         """A band across the panel's height from *x0* to *x1* (it does not count in the
@@ -519,6 +528,12 @@ class Axes:
                     f'fill="none"{_stroke(s)}/>')
         if item.kind == "arrow":
             return _arrow(px(item.x), py(item.y), s)
+        if item.kind == "image":
+            (x0, x1), (y0, y1) = px(item.x), py(item.y)
+            return (f'<image x="{_num(min(x0, x1))}" y="{_num(min(y0, y1))}" '
+                    f'width="{_num(abs(x1 - x0))}" height="{_num(abs(y1 - y0))}" '
+                    f'preserveAspectRatio="none" style="image-rendering:pixelated" '
+                    f'href="data:image/png;base64,{item.text}"/>')
         if item.kind == "vspan":
             x0, x1 = (float(v) for v in px(item.x))
             opacity = f' fill-opacity="{s.alpha:.3g}"' if s.alpha < 1.0 else ""

@@ -33,6 +33,10 @@ class InspectOptions:
     kerf: str | None = None
     align: bool = False
     out_dir: Path | None = None
+    scan: bool = False
+    fixtured: bool = False
+    fit: str | None = None
+    gate: str | None = None
 
 
 @dataclass(frozen=True)

@@ -10,6 +10,7 @@ coordinates. Nothing is written unless everything was read and computed.
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 from camfab.errors import InspectionError
 from camfab.inspect.follower import inspection_follower, read_follower_file
@@ -27,18 +28,27 @@ from camfab.inspect.values import (
     row_step,
 )
 
+if TYPE_CHECKING:
+    from camfab.design import Design
 
-def prepare(options: InspectOptions) -> Prepared:
-    """Read the design, the follower file and the outline, and resolve the setup."""
+
+def read_design(options: InspectOptions) -> Design | None:
+    """The design of ``--design``, None without one."""
     from camfab.design.source import MAX_DESIGN_BYTES
-    from camfab.export.outline import read_outline
     from camfab.files import check_bounded
     from camfab.pipeline import load_design
 
-    design = None
-    if options.design is not None:
-        check_bounded(options.design, MAX_DESIGN_BYTES, "a design file")
-        design = load_design(options.design)
+    if options.design is None:
+        return None
+    check_bounded(options.design, MAX_DESIGN_BYTES, "a design file")
+    return load_design(options.design)
+
+
+def prepare(options: InspectOptions, design: Design | None) -> Prepared:
+    """Read the follower file and the outline, and resolve the setup against *design* (read
+    from ``--design``)."""
+    from camfab.export.outline import read_outline
+
     analysis = None
     if design is not None:
         from camfab.kinds import kind_of

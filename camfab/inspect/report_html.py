@@ -79,7 +79,7 @@ def render_inspection_html(ins: Inspection, prepared: Prepared) -> bytes:
     page = page_template("inspection.html.j2").render(
         version=__version__, name=name, description=f"inspection of {name}: {follower}",
         verdict=verdict, state=state, summary=summary,
-        findings=_finding_rows(ins.findings),
+        findings=finding_rows(ins.findings),
         drawing=figures.outline_drawing(ins, title),
         numbers=_numbers(data), excursions=excursions,
         more=(len(ins.excursions()) if dev else 0),
@@ -88,7 +88,7 @@ def render_inspection_html(ins: Inspection, prepared: Prepared) -> bytes:
     return page.encode("utf-8")
 
 
-def _finding_rows(findings: list[Finding]) -> list[dict[str, Any]]:
+def finding_rows(findings: list[Finding]) -> list[dict[str, Any]]:
     """The findings as table rows, failed ones first, as the build report shows them."""
     rows = []
     for f in sorted(findings, key=lambda f: (f.ok, f.severity != "error")):

@@ -29,7 +29,7 @@ METHOD = ("velocity and acceleration are the derivatives of the measured lift: a
           "and these derivatives")
 
 
-def _r(value: float | None, digits: int = 10) -> float | None:
+def rounded(value: float | None, digits: int = 10) -> float | None:
     """A finite float rounded to *digits* significant digits, or None."""
     if value is None or not math.isfinite(value):
         return None
@@ -44,7 +44,7 @@ def _file_xy(ins: Inspection, prepared: Prepared, theta_deg: float) -> list[floa
     """The contact point at *theta_deg* in the outline file's coordinates (mm)."""
     x, y = ins.on_outline(theta_deg)
     cx, cy = prepared.centre_mm
-    return [_r(x + cx, 8), _r(y + cy, 8)]
+    return [rounded(x + cx, 8), rounded(y + cy, 8)]
 
 
 def inspection_dict(ins: Inspection, prepared: Prepared) -> dict[str, Any]:
@@ -59,20 +59,20 @@ def inspection_dict(ins: Inspection, prepared: Prepared) -> dict[str, Any]:
             "format": "dxf" if prepared.options.profile.suffix.lower() == ".dxf" else "csv",
             "read": outline.source,
             "units": outline.units,
-            "centre_mm": [_r(c) for c in prepared.centre_mm],
-            "kerf_mm": _r(prepared.kerf_mm),
+            "centre_mm": [rounded(c) for c in prepared.centre_mm],
+            "kerf_mm": rounded(prepared.kerf_mm),
             "kerf_from": prepared.kerf_source,
-            "area_mm2": _r(ins.profile.area),
-            "min_radius_mm": _r(ins.measured_base_radius),
-            "max_radius_mm": _r(float(ins.profile.radii().max())),
+            "area_mm2": rounded(ins.profile.area),
+            "min_radius_mm": rounded(ins.measured_base_radius),
+            "max_radius_mm": rounded(float(ins.profile.radii().max())),
         },
         "follower": {
             "type": fol.contact,
             "motion": "oscillating" if fol.oscillating else "translating",
-            "radius_mm": _r(fol.radius),
-            "offset_mm": None if fol.oscillating else _r(fol.offset),
-            "pivot_distance_mm": _r(fol.pivot_distance) if fol.oscillating else None,
-            "arm_length_mm": _r(fol.arm_length) if fol.oscillating else None,
+            "radius_mm": rounded(fol.radius),
+            "offset_mm": None if fol.oscillating else rounded(fol.offset),
+            "pivot_distance_mm": rounded(fol.pivot_distance) if fol.oscillating else None,
+            "arm_length_mm": rounded(fol.arm_length) if fol.oscillating else None,
             "pivot_side": ("right" if fol.pivot_sign > 0 else "left") if fol.oscillating
             else None,
         },
@@ -80,8 +80,8 @@ def inspection_dict(ins: Inspection, prepared: Prepared) -> dict[str, Any]:
         "speed_rpm": prepared.speed_rpm,
         "method": {
             "table_step_deg": _deg(ins.setup.step),
-            "grid_step_deg": _r(math.degrees(float(ins.theta[1] - ins.theta[0]))),
-            "smooth_deg": _r(math.degrees(ins.setup.smooth)),
+            "grid_step_deg": rounded(math.degrees(float(ins.theta[1] - ins.theta[0]))),
+            "smooth_deg": rounded(math.degrees(ins.setup.smooth)),
             "derivatives": METHOD.format(smooth=math.degrees(ins.setup.smooth)),
             "lift_from": ins.lift_from,
         },
@@ -99,8 +99,8 @@ def _design(ins: Inspection, prepared: Prepared) -> dict[str, Any] | None:
     if ref is None or prepared.design is None:
         return None
     return {"file": str(prepared.options.design), "name": ref.name,
-            "reference": ref.source, "base_radius_mm": _r(ref.base_radius),
-            "tolerance_mm": _r(ins.setup.tolerance)}
+            "reference": ref.source, "base_radius_mm": rounded(ref.base_radius),
+            "tolerance_mm": rounded(ins.setup.tolerance)}
 
 
 def _extreme(values: np.ndarray, theta: np.ndarray, largest: bool = True) -> tuple[float, float]:
@@ -113,19 +113,19 @@ def _motion(ins: Inspection, units: MotionUnits) -> dict[str, Any]:
     scale = math.degrees(1.0) if ins.oscillating else 1.0
     lift_max, lift_at = _extreme(m[0], theta)
     out: dict[str, Any] = {
-        units.lift_key.replace("lift", "max_lift"): _r(lift_max * scale),
+        units.lift_key.replace("lift", "max_lift"): rounded(lift_max * scale),
         "max_lift_at_deg": lift_at,
-        "rest_position_" + ("deg" if ins.oscillating else "mm"): _r(ins.rest * scale),
+        "rest_position_" + ("deg" if ins.oscillating else "mm"): rounded(ins.rest * scale),
     }
     for order, name in ((1, "velocity"), (2, "acceleration")):
         value, at = _extreme(np.abs(m[order]), theta)
         omega = ins.setup.omega
         out["max_" + units.key(order)] = (None if omega is None
-                                          else _r(units.to_si(order, value, omega)))
-        out[units.per_rad_key(order)] = _r(value)
+                                          else rounded(units.to_si(order, value, omega)))
+        out[units.per_rad_key(order)] = rounded(value)
         out[f"max_{name}_at_deg"] = at
     phi, phi_at = _extreme(np.abs(ins.pressure_angle), theta)
-    out["pressure_angle_max_deg"] = _r(math.degrees(phi))
+    out["pressure_angle_max_deg"] = rounded(math.degrees(phi))
     out["pressure_angle_max_at_deg"] = phi_at
     radius = ins.pitch_radius
     convex = np.where(radius > 0, radius, np.inf)
@@ -133,7 +133,7 @@ def _motion(ins: Inspection, units: MotionUnits) -> dict[str, Any]:
     for name, values in (("pitch_min_radius_of_curvature", convex),
                          ("pitch_min_concave_radius", concave)):
         value, at = _extreme(values, theta, largest=False)
-        out[f"{name}_mm"] = _r(value if np.isfinite(value) else None)
+        out[f"{name}_mm"] = rounded(value if np.isfinite(value) else None)
         out[f"{name}_at_deg"] = at if np.isfinite(value) else None
     return out
 
@@ -146,22 +146,22 @@ def _deviation(ins: Inspection, prepared: Prepared) -> dict[str, Any] | None:
     k = int(np.argmax(np.abs(ins.deviation_mm)))
     tolerance = ins.setup.tolerance
     out: dict[str, Any] = {
-        "max_mm": _r(value),
-        "max_at_deg": _r(at),
-        "max_signed_mm": _r(float(ins.deviation_mm[k])),
+        "max_mm": rounded(value),
+        "max_at_deg": rounded(at),
+        "max_signed_mm": rounded(float(ins.deviation_mm[k])),
         "max_at_xy_mm": _file_xy(ins, prepared, at),
-        "rms_mm": _r(ins.rms_deviation()),
-        "mean_mm": _r(float(np.mean(ins.deviation_mm))),
-        "tolerance_mm": _r(tolerance),
+        "rms_mm": rounded(ins.rms_deviation()),
+        "mean_mm": rounded(float(np.mean(ins.deviation_mm))),
+        "tolerance_mm": rounded(tolerance),
         "within_tolerance": None if tolerance is None else value <= tolerance,
-        "align_deg": None if ins.align is None else _r(math.degrees(ins.align)),
+        "align_deg": None if ins.align is None else rounded(math.degrees(ins.align)),
         "excursions": [{"start_deg": e.start_deg, "end_deg": e.end_deg,
-                        "peak_mm": _r(e.peak_mm), "peak_at_deg": _r(e.peak_at_deg),
+                        "peak_mm": rounded(e.peak_mm), "peak_at_deg": rounded(e.peak_at_deg),
                         "peak_at_xy_mm": _file_xy(ins, prepared, e.peak_at_deg)}
                        for e in ins.excursions()],
     }
     if ins.oscillating and ins.deviation is not None:
-        out["max_deg"] = _r(math.degrees(float(np.max(np.abs(ins.deviation)))))
+        out["max_deg"] = rounded(math.degrees(float(np.max(np.abs(ins.deviation)))))
     return out
 
 

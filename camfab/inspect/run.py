@@ -6,11 +6,16 @@ from __future__ import annotations
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from camfab.errors import InspectionError
 from camfab.inspect.options import InspectOptions, Prepared
 from camfab.inspect.prepare import prepare
 from camfab.inspect.record import Inspection
+
+if TYPE_CHECKING:
+    from camfab.design import Design
+    from camfab.inspect.scan_run import ScanResult
 
 
 @dataclass(frozen=True)
@@ -27,9 +32,24 @@ class InspectResult:
         return self.inspection.exit_code
 
 
-def inspect(options: InspectOptions) -> InspectResult:
+def inspect(options: InspectOptions) -> InspectResult | ScanResult:
     """Read, inspect, render and write (atomically); raises a ``CamfabError`` on bad input,
-    before anything is written."""
+    before anything is written. A 3-D scan (:func:`~camfab.inspect.scan_run.is_scan`) is
+    inspected by :func:`~camfab.inspect.scan_run.inspect_scan_file`."""
+    from camfab.inspect.prepare import read_design
+    from camfab.inspect.scan_run import inspect_scan_file, is_scan
+
+    design = read_design(options)
+    if is_scan(options.profile, design, options.scan):
+        if design is None:
+            raise InspectionError(str(options.profile), "a 3-D scan is inspected against its "
+                                  "design: give --design DESIGN.yaml")
+        return inspect_scan_file(options, design)
+    return _inspect_outline(options, design)
+
+
+def _inspect_outline(options: InspectOptions, design: Design | None) -> InspectResult:
+    """An outline's inspection (see :func:`inspect`)."""
     from camfab.geometry.simulate import SimulationTooLarge
     from camfab.inspect.lift_csv import render_lift_csv
     from camfab.inspect.measure import inspect_profile
@@ -41,7 +61,7 @@ def inspect(options: InspectOptions) -> InspectResult:
         # numpy's warnings on degenerate numbers are not messages for the user: what they
         # warn of is refused with one line, or does not matter to the result
         warnings.simplefilter("ignore", RuntimeWarning)
-        prepared = prepare(options)
+        prepared = prepare(options, design)
         try:
             inspection = inspect_profile(prepared.profile, prepared.setup, prepared.reference,
                                          options.align, file=str(options.profile))

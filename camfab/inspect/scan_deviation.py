@@ -120,7 +120,7 @@ class Others:
         from it): within a sample's spacing along it, and nearer its plane."""
         if self.tree is None or not len(points):
             return np.zeros(len(points), dtype=bool)
-        bound = float(np.abs(deviation).max()) + min(float(self.spacing.max()), MAX_ALONG_MM)
+        bound = float(np.abs(deviation).max()) + float(self.spacing.max())
         distance, k = self.tree.query(points, distance_upper_bound=bound, workers=-1)
         found = np.isfinite(distance)
         out = np.zeros(len(points), dtype=bool)
@@ -131,10 +131,6 @@ class Others:
         out[found] = (np.abs(d) < np.abs(deviation[found])) & (sideways <= self.spacing[k])
         return out
 
-
-#: Farthest (mm) along one of the other surfaces from its nearest sample a point may lie and
-#: still be taken as on it (its samples are at most this far apart on all but huge faces).
-MAX_ALONG_MM = 3.0
 
 #: How near a flank (mm) a sample of the part's mesh lies when it is on it: the mesh holds the
 #: flank within a few micrometres.

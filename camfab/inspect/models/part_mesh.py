@@ -29,41 +29,39 @@ def part_mesh(analysis: Analysis) -> tuple[Array, Index]:
     return vertices, np.asarray(mesh.tri_verts, dtype=np.int64)
 
 
-#: Largest spacing (mm) of the samples of a mesh's faces.
+#: Mean spacing (mm) of the samples of a mesh's faces.
 SAMPLE_SPACING_MM = 0.5
 
 #: Most samples of a mesh's faces (the spacing grows on a large part to keep to it).
 MAX_SAMPLES = 400_000
 
-#: Most samples along a face's longest edge.
-MAX_PER_EDGE = 40
+#: A sample's reach, in spacings: the samples fall at random, evenly by area, so a point on the
+#: surface lies within this many spacings of one but for a chance of about e^(−π·2²) ≈ 4·10⁻⁶.
+SAMPLE_REACH = 2.0
 
 
 def surface_samples(vertices: Array, faces: Index) -> tuple[Array, Array, Array]:
-    """Points on each triangle on a barycentric lattice about :data:`SAMPLE_SPACING_MM` apart
-    (coarser on large faces and parts, see :data:`MAX_PER_EDGE` and :data:`MAX_SAMPLES`),
-    with the face's unit normal and the lattice's spacing (mm) at each."""
+    """Points spread evenly by area over the triangles (a fixed seed: the same every time),
+    about :data:`SAMPLE_SPACING_MM` apart (farther on a part so large that it would take more
+    than :data:`MAX_SAMPLES`), each with its face's unit normal and the distance (mm) within
+    which a point on the surface has a sample (:data:`SAMPLE_REACH` spacings)."""
     tri = vertices[faces]
     cross = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
     area2 = np.linalg.norm(cross, axis=1)
     keep = area2 > 0.0
     tri, cross, area2 = tri[keep], cross[keep], area2[keep]
-    normal = cross / area2[:, None]
-    longest = np.max(np.linalg.norm(tri - np.roll(tri, 1, axis=1), axis=2), axis=1)
-    n = np.clip(np.ceil(longest / SAMPLE_SPACING_MM), 1, MAX_PER_EDGE).astype(np.int64)
-    while ((n + 1) * (n + 2) // 2).sum() > MAX_SAMPLES and n.max() > 1:
-        n = np.maximum(1, n // 2)
-    points, normals, spacing = [tri.mean(axis=1)], [normal], [longest]
-    for level in np.unique(n[n > 1]).tolist():
-        pick = n == level
-        i, j = np.meshgrid(np.arange(level + 1), np.arange(level + 1), indexing="ij")
-        inside = i + j <= level
-        a, b = i[inside] / level, j[inside] / level
-        corner = tri[pick]
-        lattice = (a[None, :, None] * corner[:, None, 0] + b[None, :, None] * corner[:, None, 1]
-                   + (1.0 - a - b)[None, :, None] * corner[:, None, 2])
-        points.append(lattice.reshape(-1, 3))
-        normals.append(np.repeat(normal[pick], inside.sum(), axis=0))
-        spacing.append(np.repeat(longest[pick] / level, inside.sum()))
-    spacing[0] = np.minimum(longest, np.where(n > 1, longest / n, longest))
-    return np.concatenate(points), np.concatenate(normals), np.concatenate(spacing)
+    area = 0.5 * area2
+    spacing = max(SAMPLE_SPACING_MM, float(np.sqrt(area.sum() / MAX_SAMPLES)))
+    rng = np.random.default_rng(0)
+    count = np.floor(area / spacing**2 + rng.random(len(area))).astype(np.int64)
+    face = np.repeat(np.arange(len(area)), count)
+    u = rng.random((len(face), 2))
+    flip = u.sum(axis=1) > 1.0
+    u[flip] = 1.0 - u[flip]
+    corner = tri[face]
+    points = corner[:, 0] + u[:, :1] * (corner[:, 1] - corner[:, 0]) \
+        + u[:, 1:] * (corner[:, 2] - corner[:, 0])
+    normals = cross[face] / area2[face, None]
+    points = np.concatenate((points, tri.mean(axis=1)))
+    normals = np.concatenate((normals, cross / area2[:, None]))
+    return points, normals, np.full(len(points), SAMPLE_REACH * spacing)
