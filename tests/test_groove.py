@@ -362,11 +362,22 @@ def test_report_and_summary_say_where_contact_changes_walls(built: Path) -> None
     assert "reverses its spin) at 55°, 215°" in summary
 
 
-def test_inspect_refuses_a_groove_design(built: Path, tmp_path: Path) -> None:
+def test_inspect_measures_a_groove_drawing_s_two_walls(built: Path, tmp_path: Path) -> None:
+    """The groove's own drawing, inspected against its design, gives the design's motion: the
+    roller run between its two walls (DXF arcs within the build's tolerance) departs from it by
+    a fraction of the tolerance, and the play is the design's clearance."""
+    import json
+
     result = run_cli("inspect", str(built / f"{GOOD.stem}.dxf"), "--design", str(GOOD), "-o",
                      str(tmp_path / "out"))
-    assert result.exit_code == 2 and "is a groove cam" in result.stderr
-    assert not (tmp_path / "out").exists()
+    assert result.exit_code == 0, result.stderr
+    report = json.loads((tmp_path / "out" / f"{GOOD.stem}-inspection.json").read_text())
+    tolerance = load_design(GOOD).manufacturing.tolerance
+    assert report["motion"]["max_error_mm"] < 2 * tolerance  # the walls within it, over cos φ
+    assert report["scan"]["on_flanks"] == report["scan"]["points"]
+    clearance = load_design(GOOD).follower.groove_clearance
+    assert report["motion"]["backlash"]["min_mm"] == pytest.approx(clearance, abs=2 * tolerance)
+    assert report["motion"]["backlash"]["max_mm"] == pytest.approx(clearance, abs=2 * tolerance)
 
 
 def test_wall_forces_are_the_follower_inertia() -> None:

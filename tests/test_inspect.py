@@ -337,7 +337,7 @@ def _nothing_written(tmp_path: Path) -> bool:
 
 
 @pytest.mark.parametrize("case", ["missing", "no-contour", "bad-row", "centre", "no-follower",
-                                  "align-without-design", "drum"])
+                                  "align-without-design", "drum-outline", "drum-drawing"])
 def test_bad_input_exits_2_with_one_line_and_writes_nothing(tmp_path: Path, case: str) -> None:
     args: list[str] = ["--design", str(SEED)]
     if case == "missing":
@@ -367,10 +367,20 @@ def test_bad_input_exits_2_with_one_line_and_writes_nothing(tmp_path: Path, case
         profile = _write_points(tmp_path / "scan.csv", _eccentric_points())
         args = ["--type", "knife", "--align"]
         expect = "--align: needs --design"
-    else:
+    elif case == "drum-outline":  # a drum's CSV is a scan: x, y points are not one
         profile = _write_points(tmp_path / "scan.csv", _eccentric_points())
         args = ["--design", str(DESIGNS / "demo-cylindrical.yaml")]
-        expect = "demo-cylindrical.yaml: is a drum"
+        expect = "does not name the columns x, y, z"
+    else:  # a drum's drawing is no outline to inspect: the refusal says what is
+        import ezdxf
+
+        doc = ezdxf.new("R2010")
+        doc.modelspace().add_circle((0, 0), 30)
+        profile = tmp_path / "drum.dxf"
+        doc.saveas(profile)
+        args = ["--design", str(DESIGNS / "demo-cylindrical.yaml")]
+        expect = "demo-cylindrical.yaml: is a drum (cylindrical) cam: its groove is inspected " \
+                 "from a 3-D scan"
     code, _, _, err = _inspect(tmp_path, profile, *args)
     assert code == 2
     assert len(err.strip().splitlines()) == 1 and expect in err, err

@@ -470,8 +470,8 @@ def _dxf_units(name: str, doc: Any, units: str | None, default_units: str) -> tu
 GROOVE_LAYER = "POCKET"
 GROOVE_REFUSAL = ("is a groove cam's drawing: its cam is the groove between the two walls on "
                   "layer POCKET, and its CUT layer holds the plate's blank, not a cam outline; "
-                  "inspect measures a cam's outline, not a groove's walls (give --layer with "
-                  "the layer of an outline to read that instead)")
+                  "give --design DESIGN.yaml to measure the groove's two walls against it (or "
+                  "--layer with the layer of an outline to read that instead)")
 
 
 def _layer_entities(name: str, msp: Any, layer: str | None) -> tuple[list[Any], str | None]:

@@ -5,7 +5,8 @@ inspection read, run, rendered and written (``inspect_scan_file``).
 A file is a scan when it is a PLY or STL file, when ``--scan`` says so, or when the design's cam
 is of a kind whose functional surfaces are not one outline (a drum, a globoid, a groove plate, a
 conjugate pair): its CSV is then x, y, z points. A disc cam's CSV stays an outline of x, y
-points unless ``--scan`` is given.
+points unless ``--scan`` is given. A groove plate's DXF is read as its two walls
+(:mod:`camfab.inspect.scan_drawing`) and judged like a scan.
 """
 
 from __future__ import annotations
@@ -63,11 +64,15 @@ def model_name(design: Design) -> str | None:
 
 
 def is_scan(path: Path, design: Design | None, forced: bool) -> bool:
-    """True when *path* is to be read as a 3-D scan (see the module)."""
+    """True when *path* is to be read as a 3-D scan (see the module), or a groove plate's
+    drawing with its design (its two walls measured as a scan's)."""
     if forced or path.suffix.lower() in (".ply", ".stl"):
         return True
-    return design is not None and path.suffix.lower() != ".dxf" and \
-        model_name(design) in SCAN_ONLY
+    if design is None:
+        return False
+    if path.suffix.lower() == ".dxf":
+        return model_name(design) == "groove"
+    return model_name(design) in SCAN_ONLY
 
 
 def scan_model_of(analysis: Analysis, file: str) -> ScanModel:
@@ -151,7 +156,16 @@ def inspect_scan_file(options: InspectOptions, design: Design) -> ScanResult:
     assert options.design is not None
     units = options.units or design.units
     setup = scan_setup(options, design, units)
-    scan = read_scan(options.profile, units=options.units, default_units=design.units)
+    if options.profile.suffix.lower() == ".dxf":
+        from dataclasses import replace
+
+        from camfab.inspect.scan_drawing import drawing_scan
+
+        assert design.cam.thickness is not None, "a groove plate has a thickness"
+        scan = drawing_scan(options.profile, design.cam.thickness, units)
+        setup = replace(setup, fixtured=True)
+    else:
+        scan = read_scan(options.profile, units=options.units, default_units=design.units)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)
         model = scan_model_of(analyse(design), str(options.design))

@@ -241,7 +241,8 @@ class Drum:
 
     drives_both_ways = False
     mounted = "drum"
-    inspect_refusal = "is a drum (cylindrical) cam; inspection checks the outline of a disc cam"
+    inspect_refusal = ("is a drum (cylindrical) cam: its groove is inspected from a 3-D scan or "
+                       "CMM points (CSV of x, y, z, PLY or STL), not from a drawing")
 
     @staticmethod
     def check(design: Design) -> None:

@@ -322,7 +322,8 @@ class Globoidal:
 
     drives_both_ways = True
     mounted = "globoid"
-    inspect_refusal = ("is a globoidal cam; inspection checks the outline of a disc cam")
+    inspect_refusal = ("is a globoidal cam: its groove is inspected from a 3-D scan or CMM "
+                       "points (CSV of x, y, z, PLY or STL), not from a drawing")
 
     @staticmethod
     def check(design: Design) -> None:

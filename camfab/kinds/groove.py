@@ -388,8 +388,7 @@ class Groove:
 
     drives_both_ways = True
     mounted = "plate"
-    inspect_refusal = ("is a groove cam; inspection checks the outline of a disc cam, not a "
-                       "groove's two walls")
+    inspect_refusal = None  # its drawing's two walls, or a scan, are measured as a scan's
 
     @staticmethod
     def analyse(design: Design, program: MotionProgram, units: MotionUnits,
