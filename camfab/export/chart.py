@@ -239,6 +239,7 @@ class Axes:
         self.ylim: tuple[float, float] | None = None
         self.equal = False
         self.xticks: Sequence[float] | None = None
+        self.yticks: Sequence[float] | None = None
         self.xbins, self.ybins = 0, 0
         self.xlabel = self.ylabel = self.title = ""
         self.xlabel_size = self.ylabel_size = LABEL_FONT
@@ -388,6 +389,10 @@ class Axes:
         """Ticks at *ticks* on the x axis (none for an empty list); they are labelled unless the
         panel shares its x axis with one below it."""
         self.xticks = list(ticks)
+
+    def set_yticks(self, ticks: Sequence[float]) -> None:
+        """Ticks at *ticks* on the y axis (none for an empty list)."""
+        self.yticks = list(ticks)
 
     def set_bins(self, x: int = 0, y: int = 0) -> None:
         """At most this many tick intervals on each axis (0: by the axis' length)."""
@@ -555,7 +560,10 @@ class Axes:
             xt = np.array([t for t in self.xticks if xlim[0] <= t <= xlim[1]], float)
         else:
             xt = nice_ticks(*xlim, self.xbins or max(3, int(width / 60.0)))
-        yt = nice_ticks(*ylim, self.ybins or max(3, int(height / 45.0)))
+        if self.yticks is not None:
+            yt = np.array([t for t in self.yticks if ylim[0] <= t <= ylim[1]], float)
+        else:
+            yt = nice_ticks(*ylim, self.ybins or max(3, int(height / 45.0)))
         marks = [f"M{_num(x)} {_num(bottom)} l0 {_num(TICK_LENGTH)}" for x in px(xt)]
         marks += [f"M{_num(left)} {_num(y)} l{_num(-TICK_LENGTH)} 0" for y in py(yt)]
         if marks:

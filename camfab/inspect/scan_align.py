@@ -9,7 +9,8 @@ point's distance is measured to the nearest target sample's tangent plane (point
 
 - **Fixtured** (``fixtured=True``): the scan is in the cam's frame (a CMM with the part on its
   fixture) up to the turn about the cam axis: the phase is found by a search over the whole turn
-  (every :data:`COARSE_PHASE_DEG`) on a sample of the points, then refined by least squares.
+  (in steps that move the flanks by a cell, :data:`SEARCH_CELL_MM`) on a sample of the points,
+  then refined by least squares.
 - **Free**: the whole rigid motion. The start: the cam axis is the direction that the points'
   normals (the file's, or each point's neighbours' plane) single out — the surfaces of a cam are
   mostly surfaces of revolution about it and faces across it, so in the normals' scatter matrix
@@ -20,7 +21,9 @@ point's distance is measured to the nearest target sample's tangent plane (point
   start is then iterated (trimmed point-to-plane ICP, 6 degrees of freedom, linearised).
 
 Points farther from the target than a gate that shrinks from :data:`START_GATE_MM` to
-:data:`FINAL_GATE_MM` do not pull the fit (the fixture, the table, stray points).
+:data:`FINAL_GATE_MM` do not pull the fit (the fixture, the table, stray points); those within
+it pull less the farther they lie (Cauchy's weights, :data:`FINAL_SOFT_MM`), so that points
+matched across an edge to the wrong face do not bend it.
 """
 
 from __future__ import annotations
@@ -34,14 +37,22 @@ from camfab.arrays import Array
 from camfab.inspect.models.part_mesh import surface_samples
 from camfab.inspect.surface import ScanModel
 
-#: Points used to search the phase, and to iterate the fit (a deterministic sample).
-SEARCH_POINTS = 1500
+#: Points used to search the phase, to try each start, and to iterate the fit (deterministic
+#: samples).
+SEARCH_POINTS = 4000
+TRIAL_POINTS = 5000
 FIT_POINTS = 20_000
 
-#: Steps of the phase search (deg): coarse over the turn, then fine about the best (the fit's
-#: iterations take it from within a fine step).
-COARSE_PHASE_DEG = 2.0
-FINE_PHASE_DEG = 0.25
+#: Phases tried from each start (the best local optima of the search), and the iterations of
+#: each trial; the trial that then sits best (the mean of each point's distance, at most
+#: :data:`MISFIT_CAP_MM`) is iterated to the end.
+PHASE_CANDIDATES = 4
+TRIAL_ITERATIONS = 15
+MISFIT_CAP_MM = 1.0
+
+#: Largest step of the phase search over the turn (deg); smaller where a cell at the flanks'
+#: outer edge is less (then fifths of it about the best; the fit's iterations go on from there).
+COARSE_PHASE_DEG = 1.0
 
 #: Size (mm) of the cells of the phase search's occupancy grid: a point counts when it lies in
 #: a cell next to one holding a sample of the part (within about one to two cells).
@@ -51,6 +62,11 @@ SEARCH_CELL_MM = 0.5
 #: last's.
 START_GATE_MM = 5.0
 FINAL_GATE_MM = 1.0
+
+#: The scale (mm) of the weights the fit gives points by their distance (Cauchy's, 1/(1 +
+#: (d/c)²)): c is three robust standard deviations of the distances, and no less than a quarter
+#: of the gate while it shrinks, then halving to this.
+FINAL_SOFT_MM = 0.02
 
 #: Most iterations of the fit, and the update (rad, mm) below which it has converged.
 MAX_ITERATIONS = 60
@@ -71,9 +87,10 @@ class Alignment:
     mode
         "fixtured" (only the turn about the cam axis was fitted) or "free".
     residual_mm
-        RMS distance of the points that counted in the last iteration from the part (mm).
+        RMS distance from the part (mm) of the points within the weights' scale in the last
+        iteration (the fit's core: stray points and edges left out).
     used
-        How many points counted in it.
+        How many points those were.
     iterations
         Iterations of the fit.
     start
@@ -103,15 +120,12 @@ class Alignment:
         return math.degrees(math.acos(min(1.0, abs(float(self.rotation[2, 2])))))
 
 
-class Target:
-    """The part as designed, sampled for the fit: points (M, 3, mm) with their unit normals
-    (out of the material), and a k-d tree of the points."""
+class Occupancy:
+    """Which cells of a grid of :data:`SEARCH_CELL_MM` hold a sample of a surface, or touch one
+    that does: whether a point lies within a cell or two of it, found by a sorted search of the
+    cells' keys (a quick measure of fit for the phase search)."""
 
-    def __init__(self, points: Array, normals: Array) -> None:
-        from scipy.spatial import cKDTree
-
-        self.points, self.normals = points, normals
-        self.tree = cKDTree(points)
+    def __init__(self, points: Array) -> None:
         self.low = points.min(axis=0) - 4.0 * SEARCH_CELL_MM
         cells = self._cells(points)
         shifts = np.stack(np.meshgrid(*[np.arange(-1, 2)] * 3, indexing="ij"), -1).reshape(-1, 3)
@@ -127,11 +141,24 @@ class Target:
         return np.where(inside, keys, -1)
 
     def hits(self, points: Array) -> int:
-        """How many of *points* lie within a cell or so of the part (the occupancy grid's
-        count: a quick measure of how well they fit, for the phase search)."""
+        """How many of *points* lie in an occupied cell."""
         keys = self._keys(self._cells(points))
         at = np.clip(np.searchsorted(self.occupied, keys), 0, len(self.occupied) - 1)
         return int(np.count_nonzero((self.occupied[at] == keys) & (keys >= 0)))
+
+
+class Target:
+    """The part as designed, sampled for the fit: points (M, 3, mm) with their unit normals
+    (out of the material) and a k-d tree of them; the occupancy of the flanks' nodes (which
+    alone tell the phase: the rest of a cam is mostly round) and their largest radius (mm)."""
+
+    def __init__(self, points: Array, normals: Array, flanks: Array) -> None:
+        from scipy.spatial import cKDTree
+
+        self.points, self.normals = points, normals
+        self.tree = cKDTree(points)
+        self.flanks = Occupancy(flanks)
+        self.reach = float(np.max(np.hypot(flanks[:, 0], flanks[:, 1])))
 
     def planes(self, points: Array, bound: float) -> tuple[Array, Array, Array]:
         """The points within *bound* (mm) of a sample (a mask), and their nearest samples'
@@ -147,12 +174,13 @@ def target_of(model: ScanModel) -> Target:
     for flank in model.flanks:
         points.append(flank.points[::2, ::2].reshape(-1, 3))
         normals.append(flank.normals[::2, ::2].reshape(-1, 3))
+    flanks = np.concatenate([f.points.reshape(-1, 3) for f in model.flanks])
     vertices, faces = model.reference_mesh()
     if len(faces):
         p, n, _ = surface_samples(vertices, faces)
         points.append(p)
         normals.append(n)
-    return Target(np.concatenate(points), np.concatenate(normals))
+    return Target(np.concatenate(points), np.concatenate(normals), flanks)
 
 
 def align_scan(points: Array, normals: Array | None, model: ScanModel, *,
@@ -161,15 +189,17 @@ def align_scan(points: Array, normals: Array | None, model: ScanModel, *,
     of *model* (see the module)."""
     target = target_of(model)
     search = points[_sample(len(points), SEARCH_POINTS)]
-    if fixtured:
-        phase = _phase_search(search, np.eye(3), np.zeros(3), target)
-        rotation, translation, start = _turn_z(phase), np.zeros(3), (
-            f"the scan's own frame, turned {math.degrees(phase):.4g}° about the cam axis by a "
-            "search of the whole turn")
-    else:
-        rotation, translation, start = _free_start(points, normals, search, target)
+    trial = points[_sample(len(points), TRIAL_POINTS)]
+    best: tuple[float, Alignment] | None = None
+    for rotation, translation, start in _starts(points, normals, search, target, fixtured):
+        tried = _iterate(trial, rotation, translation, target, fixtured, start,
+                         TRIAL_ITERATIONS)
+        misfit = _misfit(search, tried.rotation, tried.translation, target)
+        if best is None or misfit < best[0]:
+            best = (misfit, tried)
+    assert best is not None
     fit = points[_sample(len(points), FIT_POINTS)]
-    return _iterate(fit, rotation, translation, target, fixtured, start)
+    return _iterate(fit, best[1].rotation, best[1].translation, target, fixtured, best[1].start)
 
 
 def _sample(count: int, most: int) -> Array:
@@ -185,45 +215,61 @@ def _turn_z(angle: float) -> Array:
 
 
 def _score(points: Array, target: Target) -> float:
-    """Lower is better: the share of *points* away from the part."""
-    return 1.0 - target.hits(points) / max(1, len(points))
+    """Lower is better: the share of *points* away from the flanks."""
+    return 1.0 - target.flanks.hits(points) / max(1, len(points))
 
 
-def _phase_search(points: Array, rotation: Array, translation: Array, target: Target) -> float:
-    """The turn about Z (rad), applied after the rigid motion (R, t), that brings *points*
-    nearest the target: the best of a coarse search over the whole turn, refined."""
+def _phase_search(points: Array, rotation: Array, translation: Array, target: Target
+                  ) -> list[float]:
+    """Turns about Z (rad), applied after the rigid motion (R, t), that bring the most of
+    *points* near the flanks: the :data:`PHASE_CANDIDATES` best local optima of a search over
+    the whole turn in steps that move the flanks' outer edge by a cell, each refined in fifths
+    of that step."""
     moved = points @ rotation.T + translation
-    coarse = np.radians(np.arange(0.0, 360.0, COARSE_PHASE_DEG))
-    scores = [_score(moved @ _turn_z(a).T, target) for a in coarse.tolist()]
-    best = float(coarse[int(np.argmin(scores))])
-    fine = best + np.radians(np.arange(-COARSE_PHASE_DEG, COARSE_PHASE_DEG + 1e-9,
-                                       FINE_PHASE_DEG))
-    scores = [_score(moved @ _turn_z(a).T, target) for a in fine.tolist()]
-    return float(fine[int(np.argmin(scores))])
+    coarse_step = min(math.radians(COARSE_PHASE_DEG), SEARCH_CELL_MM / target.reach)
+    coarse = np.arange(0.0, 2.0 * math.pi, coarse_step)
+    scores = np.array([_score(moved @ _turn_z(a).T, target) for a in coarse.tolist()])
+    lowest = (scores <= np.roll(scores, 1)) & (scores <= np.roll(scores, -1))
+    order = [int(k) for k in np.argsort(scores, kind="stable") if lowest[k]]
+    found = []
+    for k in order[:PHASE_CANDIDATES]:
+        fine = coarse[k] + np.linspace(-coarse_step, coarse_step, 11)
+        fine_scores = [_score(moved @ _turn_z(a).T, target) for a in fine.tolist()]
+        found.append(float(fine[int(np.argmin(fine_scores))]))
+    return found
 
 
-def _free_start(points: Array, normals: Array | None, search: Array, target: Target
-                ) -> tuple[Array, Array, str]:
-    """The best start of a free fit: the identity, or the axis and centre the points' normals
-    and circles give, each turned by the best phase."""
-    starts = [(np.eye(3), np.zeros(3), "the scanner's frame")]
-    axis_start = _axis_start(points, normals, target)
+def _misfit(points: Array, rotation: Array, translation: Array, target: Target) -> float:
+    """Mean distance (mm, each at most :data:`MISFIT_CAP_MM`) of *points* moved by (R, t) from
+    the target samples' tangent planes: how well a candidate fit sits."""
+    near, q, n = target.planes(points @ rotation.T + translation, MISFIT_CAP_MM)
+    moved = (points @ rotation.T + translation)[near]
+    d = np.abs(np.einsum("ij,ij->i", moved - q, n))
+    return float((np.sum(np.minimum(d, MISFIT_CAP_MM)) + MISFIT_CAP_MM * (len(points) - len(d)))
+                 / max(1, len(points)))
+
+
+def _starts(points: Array, normals: Array | None, search: Array, target: Target,
+            fixtured: bool) -> list[tuple[Array, Array, str]]:
+    """Where a fit may start: fixtured, the scan's frame turned by each candidate phase; free,
+    also the cam axis and centre the points' normals and circles give, either way up, each
+    turned by its candidate phases."""
+    starts = [(np.eye(3), np.zeros(3), "the scan's own frame" if fixtured
+               else "the scanner's frame")]
+    axis_start = None if fixtured else _axis_start(points, normals, target)
     if axis_start is not None:
         for sense in (1.0, -1.0):
             rotation, translation = axis_start(sense)
             starts.append((rotation, translation, "the cam axis and centre found from the "
                            "scan's surfaces of revolution"))
-    best: tuple[float, Array, Array, str] | None = None
+    out = []
     for rotation, translation, words in starts:
-        phase = _phase_search(search, rotation, translation, target)
-        turned = _turn_z(phase)
-        r, t = turned @ rotation, turned @ translation
-        score = _score(search @ r.T + t, target)
-        if best is None or score < best[0]:
-            best = (score, r, t, f"{words}, turned {math.degrees(phase):.4g}° about the cam axis "
-                                 "by a search of the whole turn")
-    assert best is not None
-    return best[1], best[2], best[3]
+        for phase in _phase_search(search, rotation, translation, target):
+            turned = _turn_z(phase)
+            out.append((turned @ rotation, turned @ translation,
+                        f"{words}, turned {math.degrees(phase):.4g}° about the cam axis by a "
+                        "search of the whole turn"))
+    return out
 
 
 def _axis_start(points: Array, normals: Array | None, target: Target):  # type: ignore[no-untyped-def]
@@ -316,12 +362,12 @@ def _rodrigues(w: Array) -> Array:
 
 
 def _iterate(points: Array, rotation: Array, translation: Array, target: Target,
-             fixtured: bool, start: str) -> Alignment:
+             fixtured: bool, start: str, most: int = 0) -> Alignment:
     """Trimmed point-to-plane iterations from (R, t): each solves the linearised least squares
     for a small turn ω and shift τ (only ω about Z when *fixtured*)."""
-    gate = START_GATE_MM
+    gate, soft = START_GATE_MM, START_GATE_MM
     used, residual, iterations = 0, math.nan, 0
-    while iterations < MAX_ITERATIONS:
+    while iterations < (most or MAX_ITERATIONS):
         iterations += 1
         moved = points @ rotation.T + translation
         near, q, n = target.planes(moved, gate)
@@ -329,24 +375,28 @@ def _iterate(points: Array, rotation: Array, translation: Array, target: Target,
             break
         p = moved[near]
         d = np.einsum("ij,ij->i", p - q, n)
-        spread = float(np.median(np.abs(d)))
-        keep = np.abs(d) <= max(4.0 * 1.4826 * spread, 0.02)
+        keep = np.abs(d) < gate
         p, n, d = p[keep], n[keep], d[keep]
-        used, residual = len(d), float(np.sqrt(np.mean(d * d)))
+        if len(d) < 6:
+            break
+        spread = 3.0 * 1.4826 * float(np.median(np.abs(d - np.median(d))))
+        scale = max(spread, soft)
+        weight = 1.0 / np.sqrt(1.0 + (d / scale) ** 2)  # √ of Cauchy's weights, on each row
+        core = np.abs(d) <= scale
+        used = int(np.count_nonzero(core))
+        residual = float(np.sqrt(np.mean(d[core] ** 2))) if used else math.nan
         cross = np.cross(p, n)
-        if fixtured:
-            a = cross[:, 2:3]
-            step, *_ = np.linalg.lstsq(a, -d, rcond=None)
-            w, tau = np.array([0.0, 0.0, step[0]]), np.zeros(3)
-        else:
-            a = np.hstack((cross, n))
-            step, *_ = np.linalg.lstsq(a, -d, rcond=None)
-            w, tau = step[:3], step[3:]
+        a = cross[:, 2:3] if fixtured else np.hstack((cross, n))
+        step, *_ = np.linalg.lstsq(a * weight[:, None], -d * weight, rcond=None)
+        w = np.array([0.0, 0.0, step[0]]) if fixtured else step[:3]
+        tau = np.zeros(3) if fixtured else step[3:]
         turn = _rodrigues(w)
         rotation, translation = turn @ rotation, turn @ translation + tau
+        settled = gate == FINAL_GATE_MM
         gate = max(FINAL_GATE_MM, 0.6 * gate)
+        soft = max(FINAL_SOFT_MM, 0.5 * soft) if settled else 0.25 * gate
         small = max(float(np.linalg.norm(w)), float(np.linalg.norm(tau))) < CONVERGED
-        if small and gate == FINAL_GATE_MM:
+        if small and settled and soft == FINAL_SOFT_MM:
             break
     return Alignment(rotation, translation, "fixtured" if fixtured else "free", residual, used,
                      iterations, start)

@@ -67,12 +67,14 @@ def _play(ins: ScanInspection) -> Finding:
                        "measured: the scan does not reach both flanks at any cam angle",
                        applicable=False)
     k = int(np.nanargmin(play))
-    tight = ranges_deg(ins.theta, np.nan_to_num(play, nan=1.0) < 0.0)
+    tight = ranges_deg(ins.theta, np.nan_to_num(play, nan=0.0) < -ins.setup.tolerance)
     text = (f"the follower's play between the flanks is {np.nanmin(play):.3g} to "
             f"{np.nanmax(play):.3g} mm (design {design:.3g} mm)")
     if tight:
-        text += f"; it jams (no play) at {_places(tight)}"
-    return Finding("backlash", not tight, "warning", text, float(play[k]), 0.0, "mm",
+        text += (f"; the flanks pinch the follower by more than the tolerance at "
+                 f"{_places(tight)}")
+    return Finding("backlash", not tight, "warning", text, float(play[k]),
+                   -ins.setup.tolerance, "mm",
                    tuple(tight), at_deg=math.degrees(float(ins.theta[k])))
 
 

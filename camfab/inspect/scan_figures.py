@@ -99,7 +99,8 @@ def colour_scale(tolerance: float) -> str:
         ax.axvline(sign * tolerance, color="#222222", linewidth=1.0, linestyle="--")
     ax.set_xlim(-span, span)
     ax.set_ylim(0.0, 1.0)
-    ax.set_bins(x=8, y=1)
+    ax.set_bins(x=8)
+    ax.set_yticks([])
     ax.set_xlabel("deviation (mm): red, material left on; blue, under; grey, not scanned; "
                   "dashed, ± tolerance", fontsize=8)
     return fig.svg()

@@ -12,11 +12,18 @@ Empty cells: the scan does not reach the flank there.
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 
 from camfab.export.motion_csv import csv_bytes
 from camfab.inspect.scan_record import ScanInspection
+
+
+def column_name(flank: str) -> str:
+    """A flank's name as a CSV column's: lower case, words joined by ``_``, ASCII only."""
+    words = re.findall(r"[a-z0-9]+", flank.lower().encode("ascii", "ignore").decode())
+    return "_".join(words) or "flank"
 
 
 def scan_rows(ins: ScanInspection, table_step: float) -> np.ndarray:
@@ -36,7 +43,7 @@ def scan_lift_table(ins: ScanInspection, table_step: float) -> tuple[list[str], 
     values = [np.degrees(ins.theta[k]), ins.design_q[k] * scale, ins.lift_q[k] * scale,
               ins.lift_error_mm[k]]
     for f in ins.flanks:
-        columns.append(f"{f.name.replace(' ', '_')}_error_mm")
+        columns.append(f"{column_name(f.name)}_error_mm")
         values.append(f.error_mm[k])
     if ins.backlash_mm is not None:
         columns.append("backlash_mm")

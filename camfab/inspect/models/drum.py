@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -71,6 +72,10 @@ class DrumScan:
         return self.drum.pressure_angle(dq, self.drum.pitch)
 
     def reference_mesh(self) -> tuple[Array, Index]:
+        return self._mesh
+
+    @cached_property
+    def _mesh(self) -> tuple[Array, Index]:
         from camfab.inspect.models.part_mesh import part_mesh
 
         return part_mesh(self.analysis)

@@ -39,7 +39,7 @@ WINDOW_MARGIN_MM = 1.0
 END_SLACK_MM = 1e-6
 
 #: The walls: their name for the report, and their side (−1: it pushes the arm toward +ψ).
-WALLS = (("wall pushing the arm to +ψ", -1), ("wall pushing the arm to −ψ", 1))
+WALLS = (("raising wall", -1), ("lowering wall", 1))
 
 
 @dataclass(frozen=True, eq=False)
@@ -134,16 +134,16 @@ class GloboidScan:
     @cached_property
     def _mesh(self) -> tuple[Array, Index]:
         from camfab.errors import InspectionError
-        from camfab.export.stl import read_stl, render_stl
+        from camfab.inspect.models.part_mesh import part_mesh
         from camfab.kinds import kind_of
 
-        part = kind_of(self.analysis.design.cam.type).part(self.analysis)
-        if part.solid is None:  # (a flank folds: see the undercut check)
+        mesh = part_mesh(self.analysis)
+        if not len(mesh[1]):  # (a flank folds: see the undercut check)
+            withheld = kind_of(self.analysis.design.cam.type).part(self.analysis).withheld
             raise InspectionError(self.analysis.design.source or self.analysis.design.name,
                                   "camfab makes no solid of this design to hold a scan to: "
-                                  + part.withheld.get("stl", "none is made"))
-        mesh = read_stl(render_stl(part.solid).data)
-        return mesh.vertices, mesh.faces
+                                  + withheld.get("stl", "none is made"))
+        return mesh
 
 
 def scan_model(analysis: Analysis, step: float) -> GloboidScan:

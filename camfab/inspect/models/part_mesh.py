@@ -3,7 +3,7 @@ setting aside the points on no functional surface)."""
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -14,19 +14,17 @@ if TYPE_CHECKING:
 
 
 def part_mesh(analysis: Analysis) -> tuple[Array, Index]:
-    """The vertices (V, 3, mm) and faces (F, 3) of *analysis*'s part, built as its STL file is
-    (the kind's solid, by manifold3d), in the STL's frame; empty arrays when the kind makes no
-    solid of it."""
-    from camfab.export.stl import build
+    """The vertices (V, 3, mm) and faces (F, 3) of *analysis*'s part as its STL file holds
+    them (the kind's solid built by manifold3d, written and read back), in the STL's frame;
+    empty arrays when camfab makes no solid of it (a groove that folds over itself)."""
+    from camfab.export.stl import read_stl, render_stl
     from camfab.kinds import kind_of
 
     part = kind_of(analysis.design.cam.type).part(analysis)
     if part.solid is None:
         return np.zeros((0, 3)), np.zeros((0, 3), dtype=np.int64)
-    held: list[Any] = []
-    mesh = build(part.solid, held).to_mesh()
-    vertices = np.asarray(mesh.vert_properties, dtype=np.float64)[:, :3]
-    return vertices, np.asarray(mesh.tri_verts, dtype=np.int64)
+    mesh = read_stl(render_stl(part.solid).data)
+    return mesh.vertices, mesh.faces
 
 
 #: Mean spacing (mm) of the samples of a mesh's faces.
@@ -36,8 +34,9 @@ SAMPLE_SPACING_MM = 0.5
 MAX_SAMPLES = 400_000
 
 #: A sample's reach, in spacings: the samples fall at random, evenly by area, so a point on the
-#: surface lies within this many spacings of one but for a chance of about e^(−π·2²) ≈ 4·10⁻⁶.
-SAMPLE_REACH = 2.0
+#: surface lies within this many spacings of one but for a chance of about e^(−π·3²) ≈ 5·10⁻¹³
+#: (at an edge, where only half the disc is surface, e^(−π·3²/2) ≈ 7·10⁻⁷).
+SAMPLE_REACH = 3.0
 
 
 def surface_samples(vertices: Array, faces: Index) -> tuple[Array, Array, Array]:

@@ -105,13 +105,9 @@ class PlateScan:
 
     @cached_property
     def _mesh(self) -> tuple[Array, Index]:
-        from camfab.export.stl import read_stl, render_stl
-        from camfab.kinds import kind_of
+        from camfab.inspect.models.part_mesh import part_mesh
 
-        part = kind_of(self.analysis.design.cam.type).part(self.analysis)
-        assert part.solid is not None, "plate_thickness refuses a plate without a solid"
-        mesh = read_stl(render_stl(part.solid).data)
-        return mesh.vertices, mesh.faces
+        return part_mesh(self.analysis)
 
 
 def plate_thickness(analysis: Analysis) -> float:
