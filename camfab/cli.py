@@ -463,11 +463,11 @@ def _scan_outcome(result: ScanResult, options: InspectOptions) -> Outcome:
     worst = ins.worst()
     assert worst is not None
     state = "FAIL" if result.exit_code else "PASS"
-    aside = ins.deviations.aside
+    judged = len(ins.deviations.flank)
     head = (f"{options.profile.stem}: {state} — lift error through the scanned flanks "
             f"{worst[0]:.3g} mm at most (on the {worst[1]}, at {worst[2]:.4g}°), tolerance "
-            f"{ins.setup.tolerance:.3g} mm; {len(ins.scan.points) - aside:,} of "
-            f"{len(ins.scan.points):,} points on the flanks, placed with a residual of "
+            f"{ins.setup.tolerance:.3g} mm; {judged - ins.deviations.aside:,} of {judged:,} "
+            f"points on the flanks, placed with a residual of "
             f"{ins.alignment.residual_mm:.2g} mm")
     lines = [f"{head} — wrote {len(result.written)} file(s) to {result.folder}/"]
     lines += [f"  {p.name}" for p in result.written]

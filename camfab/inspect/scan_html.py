@@ -56,7 +56,8 @@ def render_scan_html(ins: ScanInspection, options: InspectOptions, design: Desig
                   "; ".join(", ".join(num(v) for v in row) for row in al["rotation"])),
                  ("residual (RMS)", f"{num(al['residual_rms_mm'])} mm over {al['points_used']:,}"
                   f" points, {al['iterations']} iterations")]
-    numbers = [("points read", f"{scan['points']:,}"),
+    numbers = [("points read (a mesh: its vertices)", f"{scan['points']:,}"),
+               ("points judged (a mesh: its triangles sampled)", f"{scan['judged']:,}"),
                ("points on the flanks", f"{scan['on_flanks']:,}"),
                ("set aside: on no flank (ends, bore, floor, fixture)",
                 f"{scan['set_aside']['off_every_flank']:,}"),

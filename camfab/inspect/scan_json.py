@@ -1,7 +1,8 @@
 """``STEM-inspection.json`` of a scan's inspection, for machines.
 
 Keys carry their units; lengths are millimetres whatever the scan's units, angles degrees.
-``scan``: what was read and how many points were judged or set aside; ``alignment``: the rigid
+``scan``: what was read (``points``: a mesh's vertices), how many points were judged (a mesh's
+triangles sampled) and how many set aside; ``alignment``: the rigid
 motion from the scanner's frame to the cam's (p_cam = R·p_scan + t) and its residual;
 ``surface``: each flank's deviation statistics (+ material left on); ``motion``: the follower's
 lift error through the scanned flanks per flank (+ pushed toward more lift), the play between two
@@ -33,7 +34,8 @@ def scan_dict(ins: ScanInspection, options: InspectOptions, design: Design) -> d
     return {
         "camfab_version": __version__,
         "scan": {"file": str(options.profile), "read": ins.scan.source, "units": ins.scan.units,
-                 "points": len(ins.scan.points), "on_flanks": on_flanks,
+                 "points": len(ins.scan.points), "judged": len(dev.flank),
+                 "on_flanks": on_flanks,
                  "set_aside": {"off_every_flank": dev.off_surface,
                                "beyond_gate": dev.beyond_gate},
                  "fit_mm": _r(setup.fit), "gate_mm": _r(setup.gate)},

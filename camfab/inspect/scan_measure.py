@@ -40,8 +40,9 @@ def inspect_scan(scan: Scan, model: ScanModel, setup: ScanSetup, *, file: str) -
         point_deviations,
     )
 
-    alignment = align_scan(scan.points, scan.normals, model, fixtured=setup.fixtured)
-    points = alignment.apply(scan.points)
+    raw, normals = scan_points(scan)
+    alignment = align_scan(raw, normals, model, fixtured=setup.fixtured)
+    points = alignment.apply(raw)
     nodes = flank_nodes(model)
     deviations = point_deviations(points, nodes, Others(model, nodes), setup.gate)
     if not np.any(deviations.flank >= 0):
@@ -53,8 +54,16 @@ def inspect_scan(scan: Scan, model: ScanModel, setup: ScanSetup, *, file: str) -
     for flank, fitted in zip(model.flanks, fitted_deviation(model, deviations, setup.fit),
                              strict=True):
         run = model.run(flank, fitted_surface(flank.points, flank.normals, fitted))
+        # judged only where the scan reaches the line the follower touches: elsewhere it would
+        # fall into what was not scanned, as if there were no material
+        run = np.where(np.isfinite(fitted).any(axis=1), run, np.nan)
         flanks.append(FlankMotion(flank.name, flank.side, run,
                                   (run - design) * model.q_scale, fitted))
+    if not any(f.measured.any() for f in flanks):
+        raise InspectionError(file, "the scan reaches no line the follower touches on the "
+                              f"{' or '.join(f.name for f in model.flanks)} (too few points "
+                              f"within {setup.fit:g} mm of any: is --fit too small for its "
+                              "density?)")
     lift, backlash = _lift_and_play(flanks, design, model)
     step = float(model.theta[1] - model.theta[0])
     pressure = model.pressure_angle(lift, _slope(lift, design, step, setup.smooth))
@@ -64,6 +73,25 @@ def inspect_scan(scan: Scan, model: ScanModel, setup: ScanSetup, *, file: str) -
                                 lift, backlash, np.where(np.isfinite(lift), pressure, np.nan),
                                 design_pressure)
     return ScanInspection(**{**inspection.__dict__, "findings": scan_findings(inspection)})
+
+
+#: Spacing (mm) of the points a scanned mesh's triangles are sampled at (the mesh's vertices
+#: alone are too few where its triangles are long, as on a flank), and the most of them.
+MESH_SPACING_MM = 0.2
+MESH_SAMPLES = 2_000_000
+
+
+def scan_points(scan: Scan) -> tuple[Array, Array | None]:
+    """The points (mm) to judge and their normals (or None): a point cloud's own; for a mesh,
+    its triangles sampled every :data:`MESH_SPACING_MM` or so (at most
+    :data:`MESH_SAMPLES`), with their faces' normals."""
+    if scan.faces is None:
+        return scan.points, scan.normals
+    from camfab.inspect.models.part_mesh import surface_samples
+
+    points, normals, _ = surface_samples(scan.points, scan.faces, MESH_SPACING_MM,
+                                         MESH_SAMPLES)
+    return points, normals
 
 
 def _lift_and_play(flanks: list[FlankMotion], design: Array, model: ScanModel

@@ -39,18 +39,19 @@ MAX_SAMPLES = 400_000
 SAMPLE_REACH = 3.0
 
 
-def surface_samples(vertices: Array, faces: Index) -> tuple[Array, Array, Array]:
+def surface_samples(vertices: Array, faces: Index, spacing: float = SAMPLE_SPACING_MM,
+                    most: int = MAX_SAMPLES) -> tuple[Array, Array, Array]:
     """Points spread evenly by area over the triangles (a fixed seed: the same every time),
-    about :data:`SAMPLE_SPACING_MM` apart (farther on a part so large that it would take more
-    than :data:`MAX_SAMPLES`), each with its face's unit normal and the distance (mm) within
-    which a point on the surface has a sample (:data:`SAMPLE_REACH` spacings)."""
+    about *spacing* (mm) apart (farther on a part so large that it would take more than
+    *most*), and each triangle's centroid, each with its face's unit normal and the distance
+    (mm) within which a point on the surface has a sample (:data:`SAMPLE_REACH` spacings)."""
     tri = vertices[faces]
     cross = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
     area2 = np.linalg.norm(cross, axis=1)
     keep = area2 > 0.0
     tri, cross, area2 = tri[keep], cross[keep], area2[keep]
     area = 0.5 * area2
-    spacing = max(SAMPLE_SPACING_MM, float(np.sqrt(area.sum() / MAX_SAMPLES)))
+    spacing = max(spacing, float(np.sqrt(area.sum() / most)))
     rng = np.random.default_rng(0)
     count = np.floor(area / spacing**2 + rng.random(len(area))).astype(np.int64)
     face = np.repeat(np.arange(len(area)), count)
