@@ -16,21 +16,16 @@ be nearer than the flank: within the point's own deviation and 0.02 mm of the ed
 and 0.2 µm, and camfab's deviation is CloudCompare's less the STL's own error at that place
 within 0.2 µm (on the three scans here 0.1 µm at most).
 
-Known departures, each a test marked as an expected failure (strict: it fails once fixed):
+A point is set aside when it lies nearer another face of the part than its flank, that face's
+normal more than 20° from the flank's (not the flank's own continuation past its grid, as a
+globoid's wall below the roller's inner end), the faces sampled evenly by area (a regression:
+samples 4–16 mm apart on large faces left points of the drum's outer surface and the groove
+plate's face on the flank with deviations up to the gate, and a globoid's wall continued set
+aside 2.4 % of its flank points).
 
-- the drum's STL stands up to some 2 µm off its walls where the groove is steepest (60–90°,
-  240–270°), over the design's tolerance of 1 µm (its groove is sampled to half of it);
-- a globoid's points within a millimetre or two of the first column (the roller's inner end)
-  are set aside with noise of 0.01 mm (some 2.4 % of its flank points): the part's other
-  surfaces hold the wall's own continuation below that column, its samples some 0.9 mm apart,
-  and a point is taken for it whenever its facet's plane is nearer than the flank's;
-- points on the surfaces beside a flank's edge within the gate of the edge are kept on the
-  flank with a deviation up to the gate: on the drum's outer surface and the groove plate's
-  face (some 1 % of their points, deviations to 1 mm) the part's samples are coarse (4–16 mm
-  apart), out of the reach (some 4 mm) of the check for a nearer surface; on the globoid (4
-  points, deviations to 0.5 mm) the nearest sample is found, nearer in its plane, but the point
-  lies farther along it than that sample's own lattice spacing (a point by the edge of a
-  facet whose neighbour's lattice is finer).
+Known departure, a test marked as an expected failure (strict: it fails once fixed): the
+drum's STL stands up to some 2 µm off its walls where the groove is steepest (60–90°,
+240–270°), over the design's tolerance of 1 µm (its groove is sampled to half of it).
 """
 
 from __future__ import annotations
@@ -75,7 +70,7 @@ EDGE_MARGIN_MM = 0.02
 MOST_AT_EDGES = 0.01
 
 #: Most of the flank points camfab may set aside (share), each within this (mm) of an edge.
-MOST_SET_ASIDE = 0.002
+MOST_SET_ASIDE = 0.005
 SET_ASIDE_NEAR_EDGE_MM = 0.1
 
 #: Most of the other surfaces' points camfab may keep (share), each at a flank's edge column.
@@ -87,14 +82,6 @@ CPU_S = 120.0
 STL_OVER = pytest.mark.xfail(strict=True, reason=(
     "the drum's STL stands up to ~2 µm off its walls where the groove is steep, over the "
     "design's 1 µm tolerance"))
-WALL_CONTINUED = pytest.mark.xfail(strict=True, reason=(
-    "Others holds a globoid wall's own continuation below the first column: ~2.4 % of its "
-    "flank points are set aside under 0.01 mm of noise"))
-COARSE_OTHERS = pytest.mark.xfail(strict=True, reason=(
-    "points of the faces beside a flank's edge, within the gate of it, are kept on the flank "
-    "with deviations up to the gate (Others.nearer finds no sample of the face near enough)"))
-
-
 @dataclass(frozen=True)
 class Measured:
     """A scan and its distances: camfab's deviations, CloudCompare's of each point (mm), of
@@ -200,11 +187,11 @@ def test_camfab_deviation_agrees_with_cloudcompare(measured: Measured) -> None:
     assert abs(float(lifted.mean())) <= 4 * NOISE_MM / np.sqrt(lifted.size)
 
 
-@pytest.mark.parametrize("measured", cases(**{"demo-globoidal-convex": WALL_CONTINUED}),
-                         indirect=True)
+@pytest.mark.parametrize("measured", cases(), indirect=True)
 def test_the_flank_points_are_kept(measured: Measured) -> None:
-    """Of the points on a flank camfab sets aside at most 0.2 %, each within 0.1 mm of the
-    flank's edge (the drum's 51 of 60,000, the groove plate's 25; the globoid's 2.4 %)."""
+    """Of the points on a flank camfab sets aside at most 0.5 %, each within 0.1 mm of the
+    flank's edge: points within the scanner's noise of an edge may lie nearer the face beyond
+    it (a groove's floor), and are set aside with it."""
     m = measured
     aside = m.on & ~m.kept
     assert np.count_nonzero(aside) <= MOST_SET_ASIDE * np.count_nonzero(m.on)
@@ -214,9 +201,8 @@ def test_the_flank_points_are_kept(measured: Measured) -> None:
 @pytest.mark.parametrize("measured", cases(), indirect=True)
 def test_the_other_surfaces_points_are_set_aside_but_at_the_flanks_edges(
         measured: Measured) -> None:
-    """Of the points on the part's other surfaces camfab keeps at most 1.5 % (the drum's and
-    the groove plate's 1.0 %, the globoid's 0.21 %), each matched to a node of a flank's first
-    or last column: they lie beside its edge."""
+    """Of the points on the part's other surfaces camfab keeps at most 1.5 %, each matched to
+    a node of a flank's first or last column: they lie beside its edge."""
     m = measured
     others_kept = ~m.on & m.kept
     assert np.count_nonzero(others_kept) <= MOST_OTHERS_KEPT * np.count_nonzero(~m.on)
@@ -225,13 +211,15 @@ def test_the_other_surfaces_points_are_set_aside_but_at_the_flanks_edges(
     assert np.all((columns == 0) | (columns == last[flanks]))
 
 
-@pytest.mark.parametrize("measured", cases(**{n: COARSE_OTHERS for n in (
-    "demo-cylindrical", "demo-globoidal-convex", "demo-groove-roller")}), indirect=True)
+@pytest.mark.parametrize("measured", cases(), indirect=True)
 def test_the_other_surfaces_points_kept_carry_no_false_deviation(measured: Measured) -> None:
     """The points of the other surfaces camfab keeps at a flank's edge lie on the part: their
-    deviation is within the noise (4 σ) and the STL's error of CloudCompare's (now up to the
-    gate: the drum's and the groove plate's 1.0 mm, the globoid's 0.5 mm; see the module)."""
+    deviation is within the noise (4 σ) and the STL's error of CloudCompare's (a point nearer
+    another face of the part than its flank, that face not the flank's own continuation, is
+    set aside)."""
     m = measured
     others_kept = ~m.on & m.kept
+    if not others_kept.any():
+        return
     bound = 4 * NOISE_MM + float(np.nanmax(np.abs(m.cc_design)))
     assert float(np.abs(m.dev.deviation[others_kept] - m.cc[others_kept]).max()) <= bound

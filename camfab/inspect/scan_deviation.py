@@ -115,9 +115,11 @@ class Others:
         self.points, self.normals, self.spacing = points, normals, spacing
         self.tree = cKDTree(points) if len(points) else None
 
-    def nearer(self, points: Array, deviation: Array) -> Mask:
+    def nearer(self, points: Array, deviation: Array, normals: Array) -> Mask:
         """Which *points* lie nearer one of these surfaces than their flank (*deviation*, mm,
-        from it): within a sample's spacing along it, and nearer its plane."""
+        from it, whose normal there is *normals*): within a sample's spacing along it, nearer
+        its plane, and it another surface (its normal more than :data:`OTHER_ANGLE_DEG` from
+        the flank's: not the flank's own continuation past its grid)."""
         if self.tree is None or not len(points):
             return np.zeros(len(points), dtype=bool)
         bound = float(np.abs(deviation).max()) + float(self.spacing.max())
@@ -128,9 +130,15 @@ class Others:
         offset = points[found] - self.points[k]
         d = np.einsum("ij,ij->i", offset, self.normals[k])
         sideways = np.linalg.norm(offset - d[:, None] * self.normals[k], axis=1)
-        out[found] = (np.abs(d) < np.abs(deviation[found])) & (sideways <= self.spacing[k])
+        other = np.abs(np.einsum("ij,ij->i", self.normals[k], normals[found])) \
+            < math.cos(math.radians(OTHER_ANGLE_DEG))
+        out[found] = (np.abs(d) < np.abs(deviation[found])) & (sideways <= self.spacing[k]) \
+            & other
         return out
 
+
+#: Least angle (deg) between a surface's normal and a flank's for it to be another surface.
+OTHER_ANGLE_DEG = 20.0
 
 #: How near a flank (mm) a sample of the part's mesh lies when it is on it: the mesh holds the
 #: flank within a few micrometres.
@@ -173,7 +181,8 @@ def point_deviations(points: Array, nodes: Nodes, others: Others, gate: float
     off = (nearest < 0) | (sideways > nodes.spacing[nearest])
     near = ~off & (np.abs(deviation) <= gate)
     on_other = np.zeros(len(points), dtype=bool)
-    on_other[near] = others.nearer(points[near], deviation[near])
+    on_other[near] = others.nearer(points[near], deviation[near],
+                                   nodes.normals[nearest[near]])
     off |= on_other
     far = ~off & (np.abs(deviation) > gate)
     kept = ~(off | far)

@@ -35,7 +35,9 @@ SCAN_STEP = math.radians(0.1)
 #: model under ``camfab.inspect.models``.
 SCAN_MODELS = {"camfab.kinds.drum": "drum", "camfab.kinds.globoid": "globoid",
                "camfab.kinds.groove": "groove", "camfab.kinds.pair:CONJUGATE": "pair",
-               "camfab.kinds.disc": "plate", "camfab.kinds.shaped": "plate"}
+               "camfab.kinds.disc": "plate", "camfab.kinds.shaped": "plate",
+               # the yoke's lower face: it touches every point of the profile once a turn
+               "camfab.kinds.pair:CONSTANT_BREADTH": "plate"}
 
 #: Kinds whose CSV is a scan (x, y, z) without ``--scan``: no one outline holds their surfaces.
 SCAN_ONLY = ("drum", "globoid", "groove", "pair")
