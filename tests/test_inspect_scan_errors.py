@@ -192,3 +192,34 @@ def test_a_part_without_errors_passes_wherever_it_was_scanned(tmp_path: Path, na
     assert all(f["measured_share"] == 1.0 for f in run.report["motion"]["flanks"])
     assert run.report["alignment"]["residual_rms_mm"] == pytest.approx(NOISE_MM, rel=0.25)
     assert run.report["alignment"]["tilt_deg"] == pytest.approx(2.5, abs=0.1)
+
+
+# -- a scan that misses part of the groove; a scan in inches ------------------------------------
+
+def test_where_the_scan_misses_the_groove_the_motion_is_not_judged(tmp_path: Path) -> None:
+    """The drum scanned but for its flanks from 100° to 200° of cam angle, written in inches:
+    the motion there is not judged (the follower would fall into what was not scanned, as if
+    there were no material): the coverage warning names the gap, the rest passes."""
+    from dataclasses import replace
+
+    design = DESIGNS / "demo-cylindrical.yaml"
+    scan = synthetic_scan(design, points=POINTS, noise_mm=NOISE_MM, seed=9, misplace=MISPLACE)
+    angle = np.degrees(np.nan_to_num(scan.cam_angle, nan=-1.0))
+    keep = ~((scan.flank >= 0) & (angle >= 100.0) & (angle < 200.0))
+    inches = replace(scan, points=scan.points[keep] / 25.4, normals=None)
+    path = inches.write(tmp_path / "gap.csv")
+    result = run_cli("inspect", str(path), "--design", str(design), "--units", "in", "-o",
+                     str(tmp_path / "o"))
+    assert result.exit_code == 0, result.stdout + result.stderr
+    report = json.loads((tmp_path / "o" / "gap-inspection.json").read_text())
+    assert report["scan"]["units"] == "in (--units)"
+    coverage = next(c for c in report["checks"] if c["id"] == "coverage")
+    assert not coverage["ok"]
+    for flank in report["motion"]["flanks"]:
+        assert flank["measured_share"] == pytest.approx(260 / 360, abs=0.02)
+    assert abs(report["motion"]["max_error_mm"]) < CLEAN_MM
+    lines = (tmp_path / "o" / "gap-lift.csv").read_text().splitlines()
+    head = lines[0].split(",")
+    rows = [dict(zip(head, line.split(","), strict=True)) for line in lines[1:]]
+    missing = [float(r["cam_angle_deg"]) for r in rows if not r["lower_wall_error_mm"]]
+    assert min(missing) >= 100.0 and max(missing) < 200.0 and len(missing) >= 95
