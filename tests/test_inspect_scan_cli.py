@@ -94,6 +94,11 @@ def test_the_drum_s_own_stl_gives_its_design_s_motion(tmp_path: Path, drum_stl: 
     assert table[0] == ("cam_angle_deg,design_lift_mm,lift_mm,lift_error_mm,lower_wall_error_mm,"
                         "upper_wall_error_mm,backlash_mm,pressure_angle_deg")
     assert len(table) == 361
+    page = (tmp_path / "o" / f"{DRUM.stem}-inspection.html").read_text()
+    for section in ('id="findings"', 'id="maps"', 'id="surface"', 'id="diagrams"',
+                    'id="alignment"'):
+        assert section in page
+    assert page.count('href="data:image/png;base64,') == 3  # two walls and the colour scale
 
 
 def test_a_disc_cam_s_csv_is_an_outline_unless_scan_is_given(tmp_path: Path) -> None:

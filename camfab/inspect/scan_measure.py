@@ -12,6 +12,8 @@ gap for the fit, and the gap is not reported.
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
 from camfab.arrays import Array
@@ -72,7 +74,7 @@ def inspect_scan(scan: Scan, model: ScanModel, setup: ScanSetup, *, file: str) -
                                 flank_stats(model, deviations, setup.tolerance), flanks, design,
                                 lift, backlash, np.where(np.isfinite(lift), pressure, np.nan),
                                 design_pressure)
-    return ScanInspection(**{**inspection.__dict__, "findings": scan_findings(inspection)})
+    return replace(inspection, findings=scan_findings(inspection))
 
 
 #: Spacing (mm) of the points a scanned mesh's triangles are sampled at (the mesh's vertices
