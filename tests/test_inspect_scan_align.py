@@ -1,5 +1,6 @@
 """The phase search's occupancy grid: the cells holding a sample of the part and the 26 about
-each, the same cells as every one of the 27 shifts taken at once."""
+each, the same cells as every one of the 27 shifts taken at once; the points in them counted as
+one by one."""
 
 from __future__ import annotations
 
@@ -20,6 +21,10 @@ def test_the_occupied_cells_are_those_next_to_a_sample() -> None:
     assert every.min() >= 0  # (the grid leaves room about the samples)
     assert np.array_equal(grid.occupied, every)
     assert grid.hits(points) == len(points)
+    # and points anywhere (in any order, off the grid too) counted one by one
+    others = rng.uniform(-45.0, 75.0, (3000, 3))
+    inside = np.isin(grid._keys(grid._cells(others)), every)
+    assert grid.hits(others) == np.count_nonzero(inside) > 0
 
 
 def test_distinct_keys_are_numpys_unique() -> None:
