@@ -177,7 +177,7 @@ class Target:
 
 def _distinct(keys: Array) -> Array:
     """The distinct *keys* (integers), sorted: ``np.unique``'s answer, by a sort (numpy 2.4's
-    ``unique`` of integers takes some forty times as long)."""
+    ``unique`` of integers, by hashing, took 20 to 60 times as long on a million keys)."""
     keys = np.sort(keys)
     if len(keys) < 2:
         return keys
