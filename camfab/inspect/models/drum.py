@@ -51,18 +51,21 @@ class DrumScan:
         return self.motion[0]
 
     def run(self, flank: FlankGrid, points: Array) -> Array:
+        """The gauge roller run over *points* ((R, C, 3) mm, *flank*'s grid moved; NaN where
+        unscanned): the bound of the lift (mm) they give at each row's cam angle. Each point's
+        radius and polar angle are taken once, not once for each row of the roller's window."""
         d = self.drum
         step = float(self.theta[1] - self.theta[0])
         reach = math.asin(min(1.0, d.roller / max(d.root, d.roller)))
         window = math.ceil(reach / step) + 2
-        return windowed_run(points, self.theta, flank.side, window, self._bounds)
+        return windowed_run(cylindrical(points), self.theta, flank.side, window, self._bounds)
 
-    def _bounds(self, points: Array, theta: Array, side: int) -> Array:
-        """The lift (mm) at which the gauge roller at cam angles *theta* touches *points*."""
+    def _bounds(self, polar: Array, theta: Array, side: int) -> Array:
+        """The lift (mm) at which the gauge roller at cam angles *theta* touches the points
+        whose :func:`cylindrical` coordinates are *polar*."""
         d = self.drum
-        x, y, z = points[..., 0], points[..., 1], points[..., 2]
-        r = np.hypot(x, y)
-        delta = np.arctan2(-x, y) - d.axis_angle(theta)
+        r, phi, z = polar[..., 0], polar[..., 1], polar[..., 2]
+        delta = phi - d.axis_angle(theta)
         w = r * np.sin(delta)
         rise = np.sqrt(d.roller * d.roller - w * w)  # NaN off the roller's footprint
         rise = np.where(r * np.cos(delta) > 0.0, rise, np.nan)
@@ -79,6 +82,14 @@ class DrumScan:
         from camfab.inspect.models.part_mesh import part_mesh
 
         return part_mesh(self.analysis)
+
+
+def cylindrical(points: Array) -> Array:
+    """(..., 3) points (mm, cam frame) as (..., 3) radius from the drum's axis (mm), polar angle
+    ϕ = atan2(−x, y) (rad: the frame of :mod:`camfab.geometry.drum`) and z (mm); NaN stays
+    NaN."""
+    x, y = points[..., 0], points[..., 1]
+    return np.stack((np.hypot(x, y), np.arctan2(-x, y), points[..., 2]), axis=-1)
 
 
 def scan_model(analysis: Analysis, step: float) -> DrumScan:
