@@ -62,7 +62,8 @@ STEP = math.radians(0.1)
 #: The kinds' scan models (modules of :mod:`camfab.inspect.models`), by the kind's module.
 MODELS = {"camfab.kinds.drum": "drum", "camfab.kinds.globoid": "globoid",
           "camfab.kinds.groove": "groove", "camfab.kinds.pair:CONJUGATE": "pair",
-          "camfab.kinds.disc": "plate", "camfab.kinds.shaped": "plate"}
+          "camfab.kinds.disc": "plate", "camfab.kinds.shaped": "plate",
+          "camfab.kinds.pair:CONSTANT_BREADTH": "plate", "camfab.kinds.linear": "linear"}
 
 #: A sample of the part's mesh lies on a flank when its foot on the flank's grid lies inside
 #: the grid and it is within this (mm) of it: the mesh holds the flanks within the design's
@@ -206,7 +207,7 @@ def synthetic_scan(design_path: Path | str, *, points: int = 200_000, noise_mm: 
     rng = np.random.default_rng(seed)
     on_flanks = points if not len(part.faces) else round(points * flank_share)
     # the flanks' points: each flank's share by its area, a cell by its area, a place in it
-    areas = [cell_areas(f) for f in flanks]
+    areas = [cell_areas(f, not getattr(part.model, 'slides', False)) for f in flanks]
     totals = np.array([area.sum() for area in areas])
     counts = np.floor(on_flanks * totals / totals.sum()).astype(int)
     counts[0] += on_flanks - counts.sum()
@@ -269,12 +270,16 @@ def row_step(part: Part) -> float:
     return float(part.model.theta[1] - part.model.theta[0])
 
 
-def cell_areas(flank: FlankGrid) -> Array:
+def cell_areas(flank: FlankGrid, wraps: bool = True) -> Array:
     """(R, C − 1) the area (mm²) of each cell of *flank*'s grid (rows wrap round the turn): half
-    the cross product of its diagonals."""
+    the cross product of its diagonals; the cell from the last row to the first has none on a
+    flank that does not wrap (a linear cam's: its ends are the stroke's, far apart)."""
     p = flank.points
     q = np.roll(p, -1, axis=0)
-    return 0.5 * np.linalg.norm(np.cross(q[:, 1:] - p[:, :-1], p[:, 1:] - q[:, :-1]), axis=2)
+    area = 0.5 * np.linalg.norm(np.cross(q[:, 1:] - p[:, :-1], p[:, 1:] - q[:, :-1]), axis=2)
+    if not wraps:
+        area[-1] = 0.0
+    return area
 
 
 def _corners(values: Array, s: Array, t: Array) -> tuple[Array, Array, Array, Array, Array,

@@ -69,11 +69,15 @@ def test_a_scan_of_another_part_is_refused(tmp_path: Path) -> None:
     assert "block.csv: no point of the scan lies on the cam's lower wall or upper wall" in err
 
 
-def test_a_kind_without_a_scan_model_is_refused(tmp_path: Path) -> None:
+def test_a_plate_without_a_thickness_is_refused(tmp_path: Path) -> None:
+    """camfab makes no part of a plate without a thickness: there is nothing to hold a scan
+    to (the design names the cause)."""
+    text = (DESIGNS / "demo-linear-roller.yaml").read_text().replace("  thickness: 8\n", "")
+    design = tmp_path / "thin.yaml"
+    design.write_text(text)
     scan = _points_csv(tmp_path / "scan.csv", np.random.default_rng(2).random((200, 3)))
-    design = DESIGNS / "demo-linear-roller.yaml"
-    err = _refused(tmp_path, str(scan), "--scan", "--design", str(design))
-    assert "camfab cannot inspect a scan of this kind of cam yet" in err
+    err = _refused(tmp_path, str(scan), "--design", str(design))
+    assert "cam.thickness is not given" in err
 
 
 def test_the_drum_s_own_stl_gives_its_design_s_motion(tmp_path: Path, drum_stl: Path) -> None:

@@ -184,7 +184,7 @@ def test_a_tapered_groove_plate_s_walls_lean_as_made(tmp_path: Path) -> None:
     assert run.code == 0
 
 
-@pytest.mark.parametrize("name", ["demo-conjugate", "seed-poly-345"])
+@pytest.mark.parametrize("name", ["demo-conjugate", "seed-poly-345", "demo-linear-roller"])
 def test_a_part_without_errors_passes_wherever_it_was_scanned(tmp_path: Path, name: str) -> None:
     run = _inspect(tmp_path, name, misplace=MISPLACE)
     assert run.code == 0, run.out

@@ -8,7 +8,8 @@ half a millimetre apart by :func:`~camfab.inspect.models.part_mesh.surface_sampl
 point's distance is measured to the nearest target sample's tangent plane (point-to-plane).
 
 - **Fixtured** (``fixtured=True``): the scan is in the cam's frame (a CMM with the part on its
-  fixture) up to the turn about the cam axis: the phase is found by a search over the whole turn
+  fixture) up to the turn about the cam axis (a linear cam's plate: up to a shift along its
+  travel, X): the phase is found by a search over the whole turn
   (in steps that move the flanks by a cell, :data:`SEARCH_CELL_MM`) on a sample of the points,
   then refined by least squares.
 - **Free**: the whole rigid motion. The start: the cam axis is the direction that the points'
@@ -159,13 +160,17 @@ class Target:
     (out of the material) and a k-d tree of them; the occupancy of the flanks' nodes (which
     alone tell the phase: the rest of a cam is mostly round) and their largest radius (mm)."""
 
-    def __init__(self, points: Array, normals: Array, flanks: Array) -> None:
+    def __init__(self, points: Array, normals: Array, flanks: Array, slides: bool = False
+                 ) -> None:
         from scipy.spatial import cKDTree
 
         self.points, self.normals = points, normals
         self.tree = cKDTree(points)
         self.flanks = Occupancy(flanks)
         self.reach = float(np.max(np.hypot(flanks[:, 0], flanks[:, 1])))
+        #: A linear cam's plate: its phase is a shift along X over the flanks' length.
+        self.slides = slides
+        self.length = float(np.ptp(flanks[:, 0]))
 
     def planes(self, points: Array, bound: float) -> tuple[Array, Array, Array]:
         """The points within *bound* (mm) of a sample (a mask), and their nearest samples'
@@ -196,7 +201,8 @@ def target_of(model: ScanModel) -> Target:
         p, n, _ = surface_samples(vertices, faces)
         points.append(p)
         normals.append(n)
-    return Target(np.concatenate(points), np.concatenate(normals), flanks)
+    return Target(np.concatenate(points), np.concatenate(normals), flanks,
+                  bool(getattr(model, "slides", False)))
 
 
 def align_scan(points: Array, normals: Array | None, model: ScanModel, *,
@@ -235,23 +241,39 @@ def _score(points: Array, target: Target) -> float:
     return 1.0 - target.flanks.hits(points) / max(1, len(points))
 
 
+def _phase_move(target: Target, phase: float) -> tuple[Array, Array]:
+    """The rigid motion of a phase: a turn of *phase* rad about Z, or for a plate that slides a
+    shift of *phase* mm along X."""
+    if target.slides:
+        return np.eye(3), np.array([phase, 0.0, 0.0])
+    return _turn_z(phase), np.zeros(3)
+
+
 def _phase_search(points: Array, rotation: Array, translation: Array, target: Target
                   ) -> list[float]:
-    """Turns about Z (rad), applied after the rigid motion (R, t), that bring the most of
-    *points* near the flanks: the :data:`PHASE_CANDIDATES` best local optima of a search over
-    the whole turn in steps that move the flanks' outer edge by a cell, each refined in fifths
-    of that step."""
+    """Phases (:func:`_phase_move`), applied after the rigid motion (R, t), that bring the most
+    of *points* near the flanks: the :data:`PHASE_CANDIDATES` best local optima of a search
+    over the whole turn in steps that move the flanks' outer edge by a cell (or over the
+    plate's length in steps of a cell), each refined in fifths of that step."""
     moved = points @ rotation.T + translation
-    coarse_step = min(math.radians(COARSE_PHASE_DEG), SEARCH_CELL_MM / target.reach)
-    coarse = np.arange(0.0, 2.0 * math.pi, coarse_step)
-    scores = np.array([_score(moved @ _turn_z(a).T, target) for a in coarse.tolist()])
+    if target.slides:
+        coarse_step = SEARCH_CELL_MM
+        coarse = np.arange(-0.5 * target.length, 0.5 * target.length, coarse_step)
+    else:
+        coarse_step = min(math.radians(COARSE_PHASE_DEG), SEARCH_CELL_MM / target.reach)
+        coarse = np.arange(0.0, 2.0 * math.pi, coarse_step)
+
+    def score(phase: float) -> float:
+        r, t = _phase_move(target, phase)
+        return _score(moved @ r.T + t, target)
+
+    scores = np.array([score(a) for a in coarse.tolist()])
     lowest = (scores <= np.roll(scores, 1)) & (scores <= np.roll(scores, -1))
     order = [int(k) for k in np.argsort(scores, kind="stable") if lowest[k]]
     found = []
     for k in order[:PHASE_CANDIDATES]:
         fine = coarse[k] + np.linspace(-coarse_step, coarse_step, 11)
-        fine_scores = [_score(moved @ _turn_z(a).T, target) for a in fine.tolist()]
-        found.append(float(fine[int(np.argmin(fine_scores))]))
+        found.append(float(fine[int(np.argmin([score(a) for a in fine.tolist()]))]))
     return found
 
 
@@ -278,14 +300,42 @@ def _starts(points: Array, normals: Array | None, search: Array, target: Target,
             rotation, translation = axis_start(sense)
             starts.append((rotation, translation, "the cam axis and centre found from the "
                            "scan's surfaces of revolution"))
+    if target.slides and not fixtured:
+        starts = [turned for start in starts for turned in _laid_along(search, start, target)]
     out = []
     for rotation, translation, words in starts:
         for phase in _phase_search(search, rotation, translation, target):
-            turned = _turn_z(phase)
-            out.append((turned @ rotation, turned @ translation,
-                        f"{words}, turned {math.degrees(phase):.4g}° about the cam axis by a "
-                        "search of the whole turn"))
+            r, t = _phase_move(target, phase)
+            how = (f"shifted {phase:.4g} mm along the plate's travel by a search of its length"
+                   if target.slides else f"turned {math.degrees(phase):.4g}° about the cam axis "
+                   "by a search of the whole turn")
+            out.append((r @ rotation, r @ translation + t, f"{words}, {how}"))
     return out
+
+
+def _laid_along(points: Array, start: tuple[Array, Array, str], target: Target
+                ) -> list[tuple[Array, Array, str]]:
+    """A sliding plate's start turned about Z so that the long axis of *points* (moved by it,
+    in the XY plane) lies along the part's, either way, their centres together."""
+    rotation, translation, words = start
+    moved = points @ rotation.T + translation
+    scan_angle, scan_centre = _long_axis(moved[:, :2])
+    part_angle, part_centre = _long_axis(target.points[:, :2])
+    out = []
+    for half in (0.0, math.pi):
+        turn = _turn_z(part_angle - scan_angle + half)
+        centre = turn[:2, :2] @ scan_centre
+        shift = np.array([part_centre[0] - centre[0], part_centre[1] - centre[1], 0.0])
+        out.append((turn @ rotation, turn @ translation + shift,
+                    f"{words}, its long axis laid along the plate's"))
+    return out
+
+
+def _long_axis(xy: Array) -> tuple[float, Array]:
+    """The angle (rad) of the principal axis of the points *xy* (N, 2) and their centre."""
+    centre = xy.mean(axis=0)
+    _, vectors = np.linalg.eigh(np.cov((xy - centre).T))
+    return math.atan2(vectors[1, 1], vectors[0, 1]), centre
 
 
 def _axis_start(points: Array, normals: Array | None, target: Target):  # type: ignore[no-untyped-def]
@@ -402,10 +452,11 @@ def _iterate(points: Array, rotation: Array, translation: Array, target: Target,
         used = int(np.count_nonzero(core))
         residual = float(np.sqrt(np.mean(d[core] ** 2))) if used else math.nan
         cross = np.cross(p, n)
-        a = cross[:, 2:3] if fixtured else np.hstack((cross, n))
+        slide = fixtured and target.slides
+        a = (n[:, 0:1] if slide else cross[:, 2:3]) if fixtured else np.hstack((cross, n))
         step, *_ = np.linalg.lstsq(a * weight[:, None], -d * weight, rcond=None)
-        w = np.array([0.0, 0.0, step[0]]) if fixtured else step[:3]
-        tau = np.zeros(3) if fixtured else step[3:]
+        w = np.zeros(3) if slide else np.array([0.0, 0.0, step[0]]) if fixtured else step[:3]
+        tau = np.array([step[0], 0.0, 0.0]) if slide else np.zeros(3) if fixtured else step[3:]
         turn = _rodrigues(w)
         rotation, translation = turn @ rotation, turn @ translation + tau
         settled = gate == FINAL_GATE_MM

@@ -31,6 +31,10 @@ import numpy as np
 from camfab.arrays import Array, Index, Mask
 from camfab.inspect.surface import ScanModel
 
+#: A step between a flank's rows longer than this many times their median is a seam, not a
+#: step: the rows at either end of a linear cam's stroke are no neighbours.
+SEAM_STEPS = 4.0
+
 #: Fewest points averaged into a node of the fitted surface.
 MIN_FIT_POINTS = 3
 
@@ -65,6 +69,8 @@ def flank_nodes(model: ScanModel) -> Nodes:
     for index, f in enumerate(model.flanks):
         rows, cols = f.points.shape[:2]
         along = np.linalg.norm(np.roll(f.points, -1, axis=0) - f.points, axis=2)
+        # (a seam that joins no neighbours, as a linear cam's ends, counts as a usual step)
+        along = np.minimum(along, SEAM_STEPS * float(np.median(along)))
         along = np.maximum(along, np.roll(along, 1, axis=0))
         gaps = np.linalg.norm(np.diff(f.points, axis=1), axis=2)
         across = np.maximum(np.pad(gaps, ((0, 0), (0, 1)), mode="edge"),

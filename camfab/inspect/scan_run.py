@@ -37,10 +37,10 @@ SCAN_MODELS = {"camfab.kinds.drum": "drum", "camfab.kinds.globoid": "globoid",
                "camfab.kinds.groove": "groove", "camfab.kinds.pair:CONJUGATE": "pair",
                "camfab.kinds.disc": "plate", "camfab.kinds.shaped": "plate",
                # the yoke's lower face: it touches every point of the profile once a turn
-               "camfab.kinds.pair:CONSTANT_BREADTH": "plate"}
+               "camfab.kinds.pair:CONSTANT_BREADTH": "plate", "camfab.kinds.linear": "linear"}
 
 #: Kinds whose CSV is a scan (x, y, z) without ``--scan``: no one outline holds their surfaces.
-SCAN_ONLY = ("drum", "globoid", "groove", "pair")
+SCAN_ONLY = ("drum", "globoid", "groove", "pair", "linear")
 
 #: Default size (mm) of the box the scan's deviation is averaged over (``--fit``).
 DEFAULT_FIT_MM = 1.0

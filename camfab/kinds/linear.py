@@ -380,8 +380,8 @@ class Linear:
     drives_both_ways = False
     mounted = None
     check = staticmethod(no_checks)
-    inspect_refusal = ("a linear cam has no disc geometry in this version of camfab to inspect "
-                       "against")
+    inspect_refusal = ("is a linear cam: its plate is inspected from a 3-D scan or CMM points "
+                       "(CSV of x, y, z, PLY or STL), not from a drawing")
 
     @staticmethod
     def analyse(design: Design, program: MotionProgram, units: MotionUnits,
