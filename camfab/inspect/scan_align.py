@@ -17,9 +17,12 @@ point's distance is measured to the nearest target sample's tangent plane (point
   mostly surfaces of revolution about it and faces across it, so in the normals' scatter matrix
   Σ n nᵀ the axis is the eigenvector whose eigenvalue differs from the other two, which are
   alike; the centre is the circle fitted to the points whose normals are across the axis,
-  matched with the same fit of the part; the height matches the ends. Both senses of the axis
-  and, for each, the phase over the whole turn are tried, and the identity besides; the best
-  start is then iterated (trimmed point-to-plane ICP, 6 degrees of freedom, linearised).
+  matched with the same fit of the part; the height matches the ends (a linear cam's plate is
+  then laid with its long axis along the part's, either way). Both senses of the axis and the
+  identity besides are starts; for each, the :data:`PHASE_CANDIDATES` best phases of a search
+  over the turn (a plate's length) are tried for :data:`TRIAL_ITERATIONS` iterations, and the
+  one that then sits best is iterated to the end (trimmed point-to-plane ICP, 6 degrees of
+  freedom, linearised).
 
 Points farther from the target than a gate that shrinks from :data:`START_GATE_MM` to
 :data:`FINAL_GATE_MM` do not pull the fit (the fixture, the table, stray points); those within
