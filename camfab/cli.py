@@ -403,6 +403,9 @@ def new(kind: str | None) -> None:
                                               "over before the follower is run (default 1 mm).")
 @click.option("--gate", metavar="LENGTH", help="Scan: points farther from their flank are set "
                                                "aside (default 1 mm).")
+@click.option("--plate-b", type=click.Path(path_type=Path), metavar="B.dxf",
+              help="A conjugate pair: the drawing of its plate b (PROFILE is plate a's); both "
+                   "plates are judged together.")
 @click.option("-o", "--output", "out_dir", type=click.Path(file_okay=False, path_type=Path),
               help="Write the files into DIR instead of exports/<stem>-inspection/.",
               metavar="DIR")
@@ -412,7 +415,8 @@ def inspect(profile: Path, design: Path | None, follower_file: Path | None, kind
             face_offset: str | None, rotation: str | None, speed: str | None, units: str | None,
             layer: str | None, centre: str | None, step: str | None, smooth: str | None,
             tolerance: str | None, kerf: str | None, align: bool, scan: bool, fixtured: bool,
-            fit: str | None, gate: str | None, out_dir: Path | None) -> None:
+            fit: str | None, gate: str | None, plate_b: Path | None, out_dir: Path | None
+            ) -> None:
     """Inspect a made or scanned cam. PROFILE is its outline (DXF, or CSV of x, y points), or a
     3-D scan or CMM points of any cam (PLY, STL, or CSV of x, y, z and optionally the normal).
 
@@ -428,7 +432,7 @@ def inspect(profile: Path, design: Path | None, follower_file: Path | None, kind
     options = InspectOptions(
         profile, design, follower_file, {k: v for k, v in given.items() if v is not None},
         rotation, speed, units, layer, centre, step, smooth, tolerance, kerf, align, out_dir,
-        scan, fixtured, fit, gate)
+        scan, fixtured, fit, gate, plate_b)
     sys.exit(_finish([_guarded(str(profile), lambda: _inspect_one(options))]))
 
 

@@ -114,3 +114,26 @@ def test_a_disc_cam_s_csv_is_an_outline_unless_scan_is_given(tmp_path: Path) -> 
     assert "no point of the scan" not in result.stderr
     err = _refused(tmp_path, str(scan), "--design", str(DISC), "--scan")
     assert "no point of the scan lies on the cam's profile" in err
+
+
+def test_a_pair_s_two_drawings_are_judged_together(tmp_path: Path) -> None:
+    """camfab's two drawings of a conjugate pair, plate a's with --plate-b plate b's: both
+    plates' outlines run together give the design's motion, the pair's play nil within the
+    drawings' tolerance; plate a's alone stays an outline inspected against cam a."""
+    design = DESIGNS / "demo-conjugate.yaml"
+    out = tmp_path / "built"
+    assert run_cli("build", str(design), "-o", str(out)).exit_code == 0
+    a, b = out / "demo-conjugate-a.dxf", out / "demo-conjugate-b.dxf"
+    result = run_cli("inspect", str(a), "--plate-b", str(b), "--design", str(design), "-o",
+                     str(tmp_path / "o"))
+    assert result.exit_code == 0, result.stdout + result.stderr
+    report = json.loads((tmp_path / "o" / "demo-conjugate-a-inspection.json").read_text())
+    assert [f["flank"] for f in report["motion"]["flanks"]] == ["plate a", "plate b"]
+    assert all(f["measured_share"] == 1.0 for f in report["motion"]["flanks"])
+    assert abs(report["motion"]["max_error_mm"]) < 0.005
+    assert abs(report["motion"]["backlash"]["min_mm"]) < 0.005
+    assert abs(report["motion"]["backlash"]["max_mm"]) < 0.005
+    alone = run_cli("inspect", str(a), "--design", str(design), "-o", str(tmp_path / "a"))
+    assert alone.exit_code == 0 and "deviation from demo-conjugate" in alone.stdout
+    err = _refused(tmp_path, str(b), "--plate-b", str(a), "--design", str(DRUM))
+    assert err.startswith("--plate-b: applies to a conjugate pair's drawings")

@@ -37,6 +37,7 @@ class InspectOptions:
     fixtured: bool = False
     fit: str | None = None
     gate: str | None = None
+    plate_b: Path | None = None
 
 
 @dataclass(frozen=True)

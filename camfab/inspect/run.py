@@ -40,11 +40,14 @@ def inspect(options: InspectOptions) -> InspectResult | ScanResult:
     from camfab.inspect.scan_run import inspect_scan_file, is_scan
 
     design = read_design(options)
-    if is_scan(options.profile, design, options.scan):
+    if is_scan(options.profile, design, options.scan, options.plate_b is not None):
         if design is None:
             raise InspectionError(str(options.profile), "a 3-D scan is inspected against its "
                                   "design: give --design DESIGN.yaml")
         return inspect_scan_file(options, design)
+    if options.plate_b is not None:
+        raise InspectionError("--plate-b", "applies to a conjugate pair's drawings, with "
+                              "--design")
     return _inspect_outline(options, design)
 
 

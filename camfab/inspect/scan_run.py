@@ -5,15 +5,17 @@ inspection read, run, rendered and written (``inspect_scan_file``).
 A file is a scan when it is a PLY or STL file, when ``--scan`` says so, or when the design's cam
 is of a kind whose functional surfaces are not one outline (a drum, a globoid, a groove plate, a
 conjugate pair): its CSV is then x, y, z points. A disc cam's CSV stays an outline of x, y
-points unless ``--scan`` is given. A groove plate's DXF is read as its two walls
-(:mod:`camfab.inspect.scan_drawing`) and judged like a scan.
+points unless ``--scan`` is given. A groove plate's DXF is read as its two walls, a conjugate
+pair's as plate a with plate b's drawing given by ``--plate-b`` (without it, plate a's drawing
+is inspected as an outline against cam a, as before)
+(:mod:`camfab.inspect.scan_drawing`), and judged like a scan.
 """
 
 from __future__ import annotations
 
 import math
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from importlib import import_module
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -25,6 +27,7 @@ from camfab.inspect.scan_record import ScanInspection, ScanSetup
 if TYPE_CHECKING:
     from camfab.analysis.record import Analysis
     from camfab.design import Design
+    from camfab.inspect.scan import Scan
     from camfab.inspect.surface import ScanModel
 
 #: Cam-angle step (rad) of the flank grids' rows and of the motion as made: 0.1°, like the
@@ -65,15 +68,17 @@ def model_name(design: Design) -> str | None:
     return SCAN_MODELS.get(REGISTRY[design.cam.type])
 
 
-def is_scan(path: Path, design: Design | None, forced: bool) -> bool:
+def is_scan(path: Path, design: Design | None, forced: bool, plate_b: bool = False) -> bool:
     """True when *path* is to be read as a 3-D scan (see the module), or a groove plate's
-    drawing with its design (its two walls measured as a scan's)."""
+    drawing with its design (its two walls measured as a scan's), or a conjugate pair's plate
+    a's drawing with plate b's (*plate_b*; plate a's alone is inspected as an outline, against
+    cam a)."""
     if forced or path.suffix.lower() in (".ply", ".stl"):
         return True
     if design is None:
         return False
     if path.suffix.lower() == ".dxf":
-        return model_name(design) == "groove"
+        return model_name(design) == "groove" or (plate_b and model_name(design) == "pair")
     return model_name(design) in SCAN_ONLY
 
 
@@ -144,6 +149,22 @@ def _refuse_outline_options(options: InspectOptions) -> None:
                               "are the design's)")
 
 
+def _drawing_points(options: InspectOptions, design: Design, units: str) -> Scan:
+    """A groove plate's drawing, or a conjugate pair's two (``--plate-b``), as scan points."""
+    from camfab.inspect.scan_drawing import drawing_scan, pair_scan
+
+    thickness = design.cam.thickness
+    if thickness is None:
+        raise InspectionError(str(options.design), "cam.thickness is not given: camfab makes "
+                              "no plate of this design to hold a drawing to")
+    if model_name(design) == "pair":
+        assert options.plate_b is not None, "is_scan: a pair's drawing is a scan with plate b's"
+        return pair_scan(options.profile, options.plate_b, thickness, units)
+    if options.plate_b is not None:
+        raise InspectionError("--plate-b", "applies to a conjugate pair's drawings")
+    return drawing_scan(options.profile, thickness, units)
+
+
 def inspect_scan_file(options: InspectOptions, design: Design) -> ScanResult:
     """Read the scan and inspect it against *design*; render and write the files (atomically).
     Raises a ``CamfabError`` on bad input, before anything is written."""
@@ -159,14 +180,12 @@ def inspect_scan_file(options: InspectOptions, design: Design) -> ScanResult:
     units = options.units or design.units
     setup = scan_setup(options, design, units)
     if options.profile.suffix.lower() == ".dxf":
-        from dataclasses import replace
-
-        from camfab.inspect.scan_drawing import drawing_scan
-
-        assert design.cam.thickness is not None, "a groove plate has a thickness"
-        scan = drawing_scan(options.profile, design.cam.thickness, units)
+        scan = _drawing_points(options, design, units)
         setup = replace(setup, fixtured=True)
     else:
+        if options.plate_b is not None:
+            raise InspectionError("--plate-b", "applies to a conjugate pair's drawings (PROFILE "
+                                  "then plate a's DXF); a scan holds both plates")
         scan = read_scan(options.profile, units=options.units, default_units=design.units)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)
