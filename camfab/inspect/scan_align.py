@@ -38,7 +38,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from camfab.arrays import Array
-from camfab.inspect.models.part_mesh import surface_samples
+from camfab.inspect.models.part_mesh import part_samples
 from camfab.inspect.surface import ScanModel
 
 #: Points used to search the phase, to try each start, and to iterate the fit (deterministic
@@ -192,27 +192,27 @@ def _distinct(keys: Array) -> Array:
     return keys[np.concatenate(([True], keys[1:] != keys[:-1]))]
 
 
-def target_of(model: ScanModel) -> Target:
-    """The flanks' nodes (every other row and column) and the part's mesh faces sampled."""
+def target_of(model: ScanModel, samples: tuple[Array, Array, Array] | None = None) -> Target:
+    """The flanks' nodes (every other row and column) and the part's mesh faces sampled
+    (*samples*: :func:`~camfab.inspect.models.part_mesh.part_samples` of *model*, when already
+    made)."""
     points, normals = [], []
     for flank in model.flanks:
         points.append(flank.points[::2, ::2].reshape(-1, 3))
         normals.append(flank.normals[::2, ::2].reshape(-1, 3))
     flanks = np.concatenate([f.points.reshape(-1, 3) for f in model.flanks])
-    vertices, faces = model.reference_mesh()
-    if len(faces):
-        p, n, _ = surface_samples(vertices, faces)
-        points.append(p)
-        normals.append(n)
+    p, n, _ = part_samples(model) if samples is None else samples
+    points.append(p)
+    normals.append(n)
     return Target(np.concatenate(points), np.concatenate(normals), flanks,
                   bool(getattr(model, "slides", False)))
 
 
 def align_scan(points: Array, normals: Array | None, model: ScanModel, *,
-               fixtured: bool) -> Alignment:
+               fixtured: bool, samples: tuple[Array, Array, Array] | None = None) -> Alignment:
     """The rigid motion carrying *points* (N, 3, mm, with unit *normals* or None) onto the part
-    of *model* (see the module)."""
-    target = target_of(model)
+    of *model* (see the module; *samples* as :func:`target_of`'s)."""
+    target = target_of(model, samples)
     search = points[_sample(len(points), SEARCH_POINTS)]
     trial = points[_sample(len(points), TRIAL_POINTS)]
     best: tuple[float, Alignment] | None = None

@@ -107,14 +107,15 @@ class Others:
     """The part's surfaces that are no flank (its ends, bore, outer surface, a groove's floor):
     samples of its mesh's faces that lie on no flank, with their normals and spacing (mm)."""
 
-    def __init__(self, model: ScanModel, nodes: Nodes) -> None:
+    def __init__(self, model: ScanModel, nodes: Nodes,
+                 samples: tuple[Array, Array, Array] | None = None) -> None:
+        """*samples*: :func:`~camfab.inspect.models.part_mesh.part_samples` of *model*, when
+        already made."""
         from scipy.spatial import cKDTree
 
-        from camfab.inspect.models.part_mesh import surface_samples
+        from camfab.inspect.models.part_mesh import part_samples
 
-        vertices, faces = model.reference_mesh()
-        points, normals, spacing = (surface_samples(vertices, faces) if len(faces) else
-                                    (np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0)))
+        points, normals, spacing = part_samples(model) if samples is None else samples
         if len(points):
             on_flank = ~_off_flanks(points, nodes, ON_FLANK_MM)
             points, normals, spacing = points[~on_flank], normals[~on_flank], spacing[~on_flank]
@@ -133,9 +134,7 @@ class Others:
         found = np.isfinite(distance)
         out = np.zeros(len(points), dtype=bool)
         k = k[found]
-        offset = points[found] - self.points[k]
-        d = np.einsum("ij,ij->i", offset, self.normals[k])
-        sideways = np.linalg.norm(offset - d[:, None] * self.normals[k], axis=1)
+        d, sideways = _plane_offsets(points[found], self.points[k], self.normals[k])
         other = np.abs(np.einsum("ij,ij->i", self.normals[k], normals[found])) \
             < math.cos(math.radians(OTHER_ANGLE_DEG))
         out[found] = (np.abs(d) < np.abs(deviation[found])) & (sideways <= self.spacing[k]) \
@@ -158,6 +157,14 @@ def _off_flanks(points: Array, nodes: Nodes, within: float) -> Mask:
     return (nearest < 0) | (sideways > nodes.spacing[nearest]) | (np.abs(deviation) > within)
 
 
+def _plane_offsets(points: Array, bases: Array, normals: Array) -> tuple[Array, Array]:
+    """Each of *points*' distance (mm) from the plane through its base point with its unit
+    normal, along the normal (signed), and its distance from the base point along the plane."""
+    offset = points - bases
+    d = np.einsum("ij,ij->i", offset, normals)
+    return d, np.linalg.norm(offset - d[:, None] * normals, axis=1)
+
+
 def _match(points: Array, nodes: Nodes, within: float) -> tuple[Index, Array, Array]:
     """Each point's nearest node (−1 beyond *within* mm of every node), its distance from the
     node's tangent plane along the node's normal and its distance from the node along that plane
@@ -171,11 +178,9 @@ def _match(points: Array, nodes: Nodes, within: float) -> tuple[Index, Array, Ar
         distance, k = nodes.tree.query(block, distance_upper_bound=within, workers=-1)
         found = np.flatnonzero(np.isfinite(distance))
         k = k[found]
-        offset = block[found] - nodes.points[k]
-        d = np.einsum("ij,ij->i", offset, nodes.normals[k])
         nearest[start + found] = k
-        deviation[start + found] = d
-        sideways[start + found] = np.linalg.norm(offset - d[:, None] * nodes.normals[k], axis=1)
+        deviation[start + found], sideways[start + found] = _plane_offsets(
+            block[found], nodes.points[k], nodes.normals[k])
     return nearest, deviation, sideways
 
 

@@ -31,6 +31,7 @@ def inspect_scan(scan: Scan, model: ScanModel, setup: ScanSetup, *, file: str) -
     InspectionError
         No point of the scan lies on the cam's flanks once placed.
     """
+    from camfab.inspect.models.part_mesh import part_samples
     from camfab.inspect.scan_align import align_scan
     from camfab.inspect.scan_checks import scan_findings
     from camfab.inspect.scan_deviation import (
@@ -43,10 +44,11 @@ def inspect_scan(scan: Scan, model: ScanModel, setup: ScanSetup, *, file: str) -
     )
 
     raw, normals = scan_points(scan)
-    alignment = align_scan(raw, normals, model, fixtured=setup.fixtured)
+    samples = part_samples(model)  # the part's faces, sampled once for both
+    alignment = align_scan(raw, normals, model, fixtured=setup.fixtured, samples=samples)
     points = alignment.apply(raw)
     nodes = flank_nodes(model)
-    deviations = point_deviations(points, nodes, Others(model, nodes), setup.gate)
+    deviations = point_deviations(points, nodes, Others(model, nodes, samples), setup.gate)
     if not np.any(deviations.flank >= 0):
         raise InspectionError(file, f"no point of the scan lies on the cam's "
                               f"{' or '.join(f.name for f in model.flanks)} once placed (within "

@@ -11,6 +11,7 @@ from camfab.arrays import Array, Index
 
 if TYPE_CHECKING:
     from camfab.analysis.record import Analysis
+    from camfab.inspect.surface import ScanModel
 
 
 def part_mesh(analysis: Analysis) -> tuple[Array, Index]:
@@ -37,6 +38,15 @@ MAX_SAMPLES = 400_000
 #: surface lies within this many spacings of one but for a chance of about e^(−π·3²) ≈ 5·10⁻¹³
 #: (at an edge, where only half the disc is surface, e^(−π·3²/2) ≈ 7·10⁻⁷).
 SAMPLE_REACH = 3.0
+
+
+def part_samples(model: ScanModel) -> tuple[Array, Array, Array]:
+    """:func:`surface_samples` of *model*'s part (its ``reference_mesh``), empty arrays when it
+    has none: what the alignment's target and the points' other surfaces are both made of."""
+    vertices, faces = model.reference_mesh()
+    if not len(faces):
+        return np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0)
+    return surface_samples(vertices, faces)
 
 
 def surface_samples(vertices: Array, faces: Index, spacing: float = SAMPLE_SPACING_MM,
