@@ -11,7 +11,10 @@ variant), never the batch.
 
 A worker ignores Ctrl-C (the batch's process decides: it lets the running tasks finish and
 starts no more). SIGTERM and SIGHUP stop a worker as they stop camfab: a running task's cleanup
-runs (its temporary files removed), and a worker waiting for work ends without a word.
+runs (its temporary files removed) and the worker ends there, and a worker waiting for work ends
+without a word. A stopped worker never goes back for work: two stops that come together (its
+process group's and the pool's own, sent when another worker has ended) are one to Python, and
+a worker that took the one as its task's end would then wait on the pool's queue for ever.
 """
 
 from __future__ import annotations
@@ -36,6 +39,9 @@ class WorkerStopped(SystemExit):
     def __init__(self, signum: int) -> None:
         super().__init__(128 + signum)
         self.signum = signum
+
+    def __reduce__(self) -> tuple[type[WorkerStopped], tuple[int]]:
+        return type(self), (self.signum,)  # (sent back from a worker as the signal, not the code)
 
 
 @dataclass(frozen=True)
@@ -123,6 +129,17 @@ def _stop_worker(signum: int, frame: Any) -> None:
     raise WorkerStopped(signum)
 
 
+def _stoppable(function: Callable[[Any], Any], item: Any) -> Any:
+    """*function* on *item* in a pool's worker: a stop ends the worker once the task's cleanup
+    has run (the pool then reports the task's worker as ended; see the module)."""
+    try:
+        return function(item)
+    except WorkerStopped as exc:
+        import os
+
+        os._exit(exc.code)
+
+
 def broken(exc: BaseException) -> bool:
     """True when *exc*, a task's result, says its worker died or was stopped."""
     from concurrent.futures.process import BrokenProcessPool
@@ -206,7 +223,7 @@ def in_order(function: Callable[[Any], Any], items: Iterable[Any], jobs: int,
         while True:
             with signals_held():  # the pool is set up whole before a stop can break in
                 for item in feed:
-                    pending.append((item, pool.submit(function, item)))
+                    pending.append((item, pool.submit(_stoppable, function, item)))
                     if len(pending) >= ahead:
                         break
             if not pending:

@@ -79,6 +79,38 @@ def test_a_stop_of_a_batchs_process_group_is_one_line(tmp_path: Path) -> None:
     assert not list((tmp_path / "out").rglob(".*.tmp"))
 
 
+def _stopped_in_its_task(item: int) -> int:
+    from camfab.workers import WorkerStopped
+
+    raise WorkerStopped(signal.SIGTERM)
+
+
+def test_a_worker_stopped_in_its_task_ends_there() -> None:
+    """Two stops that come together are one to Python: a worker that took the one as its task's
+    end and went back for work would wait on the pool's queue for ever, and the batch with it."""
+    from concurrent.futures.process import BrokenProcessPool
+
+    from camfab.workers import _stoppable, worker_pool
+
+    pool = worker_pool(1, None)
+    try:
+        future = pool.submit(_stoppable, _stopped_in_its_task, 0)
+        assert isinstance(future.exception(timeout=120), BrokenProcessPool)
+        processes = list(pool._processes.values())
+    finally:
+        pool.shutdown(wait=True)
+    assert [p.exitcode for p in processes] == [128 + signal.SIGTERM]
+
+
+def test_a_stop_sent_back_from_a_worker_keeps_its_signal() -> None:
+    import pickle
+
+    from camfab.workers import WorkerStopped
+
+    stopped = pickle.loads(pickle.dumps(WorkerStopped(signal.SIGTERM)))
+    assert (stopped.signum, stopped.code) == (signal.SIGTERM, 128 + signal.SIGTERM)
+
+
 def _children(pid: int) -> list[str]:
     try:
         return Path(f"/proc/{pid}/task/{pid}/children").read_text().split()
