@@ -27,6 +27,10 @@ class Law(ABC):
     breakpoints: tuple[float, ...] = ()
     #: Lowest derivative order that steps inside the law (None: smooth inside up to jerk).
     inner_step_order: int | None = None
+    #: The highest derivative :meth:`derivatives` gives: 3 (f‴, as :meth:`evaluate`) for most
+    #: laws; 5 for those a polydyne cam's output motion may follow (the cam's jerk carries the
+    #: output's fifth derivative).
+    top_order: int = 3
 
     @abstractmethod
     def evaluate(self, u: ArrayLike) -> Array:
@@ -36,6 +40,19 @@ class Law(ABC):
         At a breakpoint where a derivative steps, the value from the piece to the right is
         returned (the limit from increasing u), except at u = 1 where the last piece applies.
         """
+
+    def derivatives(self, u: ArrayLike, order: int) -> Array:
+        """f and its derivatives up to *order* (≤ :attr:`top_order`) at *u*: shape
+        (order + 1, len(u)), with :meth:`evaluate`'s one-sided rule at breakpoints."""
+        if order > self.top_order:
+            raise ValueError(f"the {self.name} law gives derivatives up to {self.top_order}")
+        return self.evaluate(u)[: order + 1]
+
+    def pieces(self) -> tuple[Array, tuple[Array, ...]] | None:
+        """The law as polynomial pieces, or None where it is not piecewise polynomial: the
+        breaks (K + 1,) from 0 to 1 and each piece's coefficients in (u − its first break),
+        ascending."""
+        return None
 
     @abstractmethod
     def _peaks(self) -> tuple[float, float, float]:
@@ -86,10 +103,32 @@ class Mirrored(Law):
         self.name = law.name
         self.breakpoints = tuple(sorted(1.0 - b for b in law.breakpoints))
         self.inner_step_order = law.inner_step_order
+        self.top_order = law.top_order
 
     def evaluate(self, u: ArrayLike) -> Array:
         values = self.law.evaluate(1.0 - as_unit_array(u))
         return np.stack([1.0 - values[0], values[1], -values[2], values[3]])
+
+    def derivatives(self, u: ArrayLike, order: int) -> Array:
+        values = self.law.derivatives(1.0 - as_unit_array(u), order)
+        sign = (-1.0) ** (np.arange(order + 1) + 1)
+        out = values * sign[:, None]
+        out[0] += 1.0
+        return out
+
+    def pieces(self) -> tuple[Array, tuple[Array, ...]] | None:
+        """g(u) = 1 − f(1 − u) piece by piece: f's piece on [a, b] read from u = 1 − b."""
+        from numpy.polynomial import Polynomial
+
+        found = self.law.pieces()
+        if found is None:
+            return None
+        breaks, coefficients = found
+        out = []
+        for a, b, c in zip(breaks[-2::-1], breaks[:0:-1], coefficients[::-1], strict=True):
+            flipped = Polynomial(c)(Polynomial([b - a, -1.0])).coef  # f at w − a = (b − a) − v
+            out.append(np.concatenate([[1.0 - flipped[0]], -flipped[1:]]))
+        return 1.0 - breaks[::-1], tuple(out)
 
     def _peaks(self) -> tuple[float, float, float]:
         return self.law._peaks()

@@ -14,7 +14,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from camfab.motion.law import Array, Law, Mirrored, as_unit_array
-from camfab.motion.polynomial import POLYNOMIAL_23, POLYNOMIAL_345, POLYNOMIAL_4567
+from camfab.motion.polynomial import (POLYNOMIAL_23, POLYNOMIAL_345, POLYNOMIAL_4567,
+                                      POLYNOMIAL_56789)
 from camfab.motion.scca import SCCA
 
 PI = math.pi
@@ -143,6 +144,13 @@ class Dwell(Law):
     """No motion: used for dwell segments (their height Δ is zero)."""
 
     name = "dwell"
+    top_order = 5
+
+    def derivatives(self, u: ArrayLike, order: int) -> Array:
+        return np.zeros((order + 1, as_unit_array(u).size))
+
+    def pieces(self) -> tuple[Array, tuple[Array, ...]]:
+        return np.array([0.0, 1.0]), (np.zeros(1),)
 
     def evaluate(self, u: ArrayLike) -> Array:
         u = as_unit_array(u)
@@ -177,6 +185,8 @@ LAWS: tuple[LawInfo, ...] = (
             continuity="acceleration steps at the ends"),
     LawInfo("polynomial-345", (), "3-4-5 polynomial", continuity="jerk steps next to dwells"),
     LawInfo("polynomial-4567", (), "4-5-6-7 polynomial", continuity="jerk continuous"),
+    LawInfo("polynomial-56789", (), "5-6-7-8-9 polynomial",
+            continuity="four derivatives continuous (a polydyne cam's output)"),
     LawInfo("modified-trapezoid", (), "SCCA b=¼ c=½ d=¼", continuity="jerk steps next to dwells"),
     LawInfo("modified-sine", (), "SCCA b=¼ c=0 d=¾", continuity="jerk steps next to dwells"),
     LawInfo("double-harmonic", (), "rise straight into a mirrored return (no top dwell)",
@@ -200,6 +210,7 @@ _FIXED: dict[str, Law] = {
     "polynomial-23": POLYNOMIAL_23,
     "polynomial-345": POLYNOMIAL_345,
     "polynomial-4567": POLYNOMIAL_4567,
+    "polynomial-56789": POLYNOMIAL_56789,
     "modified-trapezoid": SCCA(0.25, 0.5, 0.25, "modified-trapezoid"),
     "modified-sine": SCCA(0.25, 0.0, 0.75, "modified-sine"),
     "double-harmonic": DoubleHarmonic(),

@@ -31,9 +31,11 @@ class PolynomialLaw(Law):
         self.name = name
         self._coeffs = tuple(c if c.size else np.zeros(1))
         self._derivs = [np.asarray(self._coeffs)]
-        for _ in range(4):
+        for _ in range(6):
             self._derivs.append(P.polyder(self._derivs[-1]))
         self._given_peaks = peaks
+
+    top_order = 5
 
     @property
     def degree(self) -> int:
@@ -42,6 +44,15 @@ class PolynomialLaw(Law):
     def evaluate(self, u: ArrayLike) -> Array:
         u = as_unit_array(u)
         return np.stack([P.polyval(u, self._derivs[n]) for n in range(4)])
+
+    def derivatives(self, u: ArrayLike, order: int) -> Array:
+        if order > self.top_order:
+            raise ValueError(f"the {self.name} law gives derivatives up to {self.top_order}")
+        u = as_unit_array(u)
+        return np.stack([P.polyval(u, self._derivs[n]) for n in range(order + 1)])
+
+    def pieces(self) -> tuple[Array, tuple[Array, ...]]:
+        return np.array([0.0, 1.0]), (np.asarray(self._coeffs),)
 
     def _peaks(self) -> tuple[float, float, float]:
         if self._given_peaks is not None:
@@ -103,3 +114,7 @@ POLYNOMIAL_345 = PolynomialLaw([0, 0, 0, 10, -15, 6], "polynomial-345", (15 / 8,
 POLYNOMIAL_4567 = PolynomialLaw(
     [0, 0, 0, 0, 35, -84, 70, -20], "polynomial-4567", (35 / 16, 84 * SQRT5 / 25, 52.5)
 )
+#: The 5-6-7-8-9 polynomial: its first four derivatives vanish at both ends, so a polydyne
+#: cam's acceleration (which carries the output's fourth) is continuous at its dwells. Its
+#: peaks are found from the roots of its derivatives.
+POLYNOMIAL_56789 = PolynomialLaw([0, 0, 0, 0, 0, 126, -420, 540, -315, 70], "polynomial-56789")
