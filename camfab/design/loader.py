@@ -23,8 +23,9 @@ from camfab.errors import DesignError, Location, did_you_mean
 
 SEGMENT_KINDS = {"rise": "rise", "return": "return", "fall": "return", "dwell": "dwell"}
 
-_TOP = ("name", "description", "units", "cam", "follower", "motion", "spring", "limits",
-        "materials", "manufacturing", "inspection", "machining", "sizing", "outputs", "table_step")
+_TOP = ("name", "description", "units", "cam", "follower", "motion", "motion_target", "spring",
+        "limits", "materials", "manufacturing", "inspection", "machining", "sizing", "outputs",
+        "table_step")
 _SECTIONS: dict[str, tuple[str, ...]] = {
     "spring": ("rate", "preload", "initial_compression", "gravity", "damping", "external_load"),
     "limits": ("pressure_angle", "min_radius_of_curvature", "contact_stress", "roller_life"),

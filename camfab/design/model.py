@@ -430,6 +430,10 @@ class Design(Frozen):
     cam: Cam
     follower: Follower
     motion: Annotated[tuple[Segment, ...], Field(min_length=1)] | None = None
+    #: What ``motion`` describes: the cam's lift (``cam``), or the motion of the follower's
+    #: mass (``output``: a polydyne cam, its lift computed through the elastic train at
+    #: ``cam.speed_rpm``).
+    motion_target: Literal["cam", "output"] = "cam"
     spring: Spring | None = None
     limits: Limits = Limits()
     materials: Materials = Materials()
@@ -453,8 +457,23 @@ class Design(Frozen):
 
     @cached_property
     def program(self) -> MotionProgram:
-        """The motion program s(θ): of ``motion``, or of the cam's shape for a circular-arc or
-        tangent cam (built once; the rules build it to check it)."""
+        """The motion program s(θ) of the cam's lift: of ``motion``, or of the cam's shape for a
+        circular-arc or tangent cam, or, with ``motion_target: output``, the polydyne cam's
+        lift that makes the follower's mass follow ``motion`` (built once; the rules build it
+        to check it)."""
+        output = self.output_program
+        if self.motion_target == "cam":
+            return output
+        from camfab.design.train import polydyne_terms
+        from camfab.motion.polydyne import PolydyneProgram
+
+        assert self.cam.speed_rpm is not None, "the rules require a speed"
+        return PolydyneProgram(output, polydyne_terms(self), self.cam.speed_rpm)
+
+    @cached_property
+    def output_program(self) -> MotionProgram:
+        """The follower's motion the design asks for: the cam's lift (:attr:`program`) unless
+        ``motion_target`` is ``output``, where it is the motion of the follower's mass."""
         return self.cam.spec.program(self)
 
     @cached_property

@@ -76,6 +76,8 @@ def check_rules(design: Design, sizing: frozenset[str] = frozenset()) -> None:
     the sized design, which is checked in full."""
     _check_cam(design, sizing)
     _check_follower(design, sizing)
+    if design.motion_target == "output":
+        _check_polydyne_train(design)
     program = _check_motion(design, sizing)
     if not sizing:
         _check_oscillating(design, program.max_lift)
@@ -186,6 +188,8 @@ def _check_motion(design: Design, sizing: frozenset[str]) -> MotionProgram:
             fail(("motion", i, "lift"), "required for a rise", show_got=False)
     spec.check_motion(design)
     try:
+        if design.motion_target == "output":
+            _check_polydyne_laws(design)
         program = design.program
     except ProgramError as exc:
         path: tuple[str | int, ...] = ("motion",) if exc.index is None else ("motion", exc.index)
@@ -197,6 +201,34 @@ def _check_motion(design: Design, sizing: frozenset[str]) -> MotionProgram:
         _check_steepness(design, program)
     spec.check_program(design, program)
     return program
+
+
+def _check_polydyne_train(design: Design) -> None:
+    """A polydyne cam (``motion_target: output``) needs a motion list and the elastic follower
+    train it is computed through: the follower's stiffness and mass and the cam's speed."""
+    if design.motion is None:
+        fail(("motion_target",), f"a {design.cam.type} cam's motion comes from its shape: only "
+             "a motion list can describe the follower's mass (motion_target: output)")
+    if design.follower.stiffness is None:
+        fail(("motion_target",), "a polydyne cam is computed through the elastic follower "
+             "train: give follower.stiffness (N/mm), follower.mass (kg) and cam.speed_rpm")
+    _check_at_speed_ranges(design)
+    _check_train(design)
+
+
+#: The laws a polydyne cam's output motion may follow, as the refusal names them.
+POLYDYNE_LAWS = "polynomial-56789 or spline (of order 6 or more)"
+
+
+def _check_polydyne_laws(design: Design) -> None:
+    """Under ``motion_target: output`` the cam's acceleration carries the output's fourth
+    derivative: every law must have its first four derivatives continuous, at its joints too."""
+    from camfab.motion.polydyne import rough_joints
+
+    for index, why in rough_joints(design.output_program):
+        fail(("motion", index, "law"), f"{why}: a polydyne cam's acceleration carries the "
+             f"follower's fourth derivative (motion_target: output), so its laws need four "
+             f"continuous derivatives at every joint: use {POLYDYNE_LAWS}", show_got=False)
 
 
 #: How far (a share of the top lift) a segment may stray below zero lift or above the program's
