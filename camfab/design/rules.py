@@ -15,7 +15,7 @@ from camfab.curves.follower import FollowerGeometry
 from camfab.errors import CamfabError, DesignError
 
 if TYPE_CHECKING:
-    from camfab.design.model import Design
+    from camfab.design.model import Design, Segment
     from camfab.motion.program import MotionProgram
 
 #: Smallest wall of material camfab accepts between a groove or bore and the part's edge (mm):
@@ -174,13 +174,7 @@ def _check_motion(design: Design, sizing: frozenset[str]) -> MotionProgram:
         if seg.law is None:
             fail(("motion", i, "law"), f"required for a {seg.kind}", show_got=False,
                  allowed=_law_names())
-        if seg.blend is not None and seg.law != "modified-uniform-velocity":
-            fail(("motion", i, "blend"), "only the modified-uniform-velocity law takes a blend")
-        if seg.law not in ("polynomial", "table"):
-            for key in ("start", "end", "points"):
-                if getattr(seg, key) is not None:
-                    fail(("motion", i, key), "only polynomial and table laws take " + key,
-                         show_got=False)
+        _check_law_keys(i, seg)
         if seg.law == "table" and not seg.points:
             fail(("motion", i, "points"), "a table law needs points (or a csv file)",
                  show_got=False)
@@ -229,6 +223,22 @@ def _check_polydyne_laws(design: Design) -> None:
         fail(("motion", index, "law"), f"{why}: a polydyne cam's acceleration carries the "
              f"follower's fourth derivative (motion_target: output), so its laws need four "
              f"continuous derivatives at every joint: use {POLYDYNE_LAWS}", show_got=False)
+
+
+#: The segment keys that belong to some laws (the others take them as not given).
+LAW_KEYS = ("blend", "start", "end", "points", "order", "controls")
+
+
+def _check_law_keys(index: int, segment: Segment) -> None:
+    """A key of a law's own (a blend, conditions, points, a spline's order and controls) only
+    on a segment of a law that takes it (:data:`camfab.motion.laws.LAWS`' params)."""
+    from camfab.motion.laws import LAW_INFO, laws_taking
+
+    takes = LAW_INFO[segment.law].params if segment.law in LAW_INFO else ()
+    for key in LAW_KEYS:
+        if getattr(segment, key) is not None and key not in takes:
+            fail(("motion", index, key), f"only {laws_taking(key)} {key}",
+                 show_got=key == "blend")
 
 
 #: How far (a share of the top lift) a segment may stray below zero lift or above the program's
