@@ -32,8 +32,8 @@ from camfab.export.figures import (
 )
 
 if TYPE_CHECKING:
-    from camfab.analysis.at_speed import AtSpeed
     from camfab.analysis.record import Analysis
+    from camfab.speed.model import AtSpeed
 
 
 def stress_figure(analysis: Analysis) -> str | None:
