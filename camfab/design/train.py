@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
     from camfab.design.model import Design
+    from camfab.motion.polydyne import TrainTerms
 
 #: Standard gravity (m/s²).
 G = 9.80665
@@ -88,3 +89,14 @@ def rigid_train(design: Design, held_by_spring: bool) -> Train:
         return Train(fol.mass, 0.0, 0.0, 0.0)
     return Train(fol.mass, 0.0, spring.rate * 1000.0, 0.0, spring.damping,
                  spring_load(design))
+
+
+def polydyne_terms(design: Design) -> TrainTerms:
+    """The terms of a polydyne cam's equation (:mod:`camfab.motion.polydyne`) for the design's
+    train at its speed: held by its spring where it has one, as the model at speed holds it."""
+    from camfab.motion.polydyne import TrainTerms
+
+    train, omega = train_of(design, design.spring is not None), design.cam.omega
+    assert train is not None and omega is not None, "the rules require a train and a speed"
+    return TrainTerms.of(train.mass, train.stiffness, train.spring, train.damping,
+                         train.spring_damping, omega)

@@ -323,6 +323,14 @@ def contact_force(train: Train, omega: Array | float, error: Array,
     return -train.stiffness * error - train.damping * omega_arr * error_rate
 
 
+def periodic_error(train: Train, omega: Array | float, theta: Array, force: Array,
+                   rate: Array) -> Array:
+    """The periodic dynamic error e (m) alone on the grid *theta* (rad), at the cam speed
+    *omega* (rad/s) or at several ((S,), with *force* and *rate* of :func:`rigid_force` (S, N)):
+    what :func:`respond` gives, without the contact force and its least."""
+    return 2.0 * _modes(train, omega, theta, force, rate)[0].real
+
+
 def respond(train: Train, omega: float, theta: Array, motion: Array) -> Response:
     """The periodic response at the cam speed *omega* (rad/s) to the *motion* (s … s‴ in m
     and per radian, (4, N)) on the grid *theta* (rad), with its least contact force between

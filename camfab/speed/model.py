@@ -36,7 +36,7 @@ from camfab.speed.contact import (
 
 if TYPE_CHECKING:
     from camfab.analysis.record import Analysis
-    from camfab.speed.vibration import Vibration
+    from camfab.speed.vibration import SpeedBand, Vibration
 
 
 @dataclass(frozen=True)
@@ -60,6 +60,9 @@ class AtSpeed:
         The contact stress and the roller bearing's life (None where not computed).
     force_note, stress_note, life_note
         Why a number is missing, where it is.
+    band
+        A polydyne cam's vibration against speed beside its motion list cut directly (None for
+        other cams, and without the elastic train's state).
     """
 
     contact: Contact | None
@@ -72,6 +75,7 @@ class AtSpeed:
     force_note: str | None = None
     stress_note: str | None = None
     life_note: str | None = None
+    band: SpeedBand | None = None
 
 
 def force_note(design: Design, held_by_spring: bool, two_sided: bool) -> str | None:
@@ -139,9 +143,16 @@ def at_speed(analysis: Analysis) -> Analysis:
     elif design.follower.roller_load_rating is None:
         life_note = ("no load rating: give follower.roller_load_rating (the bearing's basic "
                      "dynamic load rating C) for its life")
+    band = None
+    if shaken is not None and design.motion_target == "output":
+        from camfab.speed.vibration import speed_band
+
+        assert design.cam.speed_rpm is not None
+        band = speed_band(shaken.train, analysis.program, design.output_program,
+                          design.cam.speed_rpm, trace_scale(design), STEP)
     record = AtSpeed(contact, theta, force, held_by_spring, shaken, stress, life, missing,
                      None if stress is not None else stress_note,
-                     None if life is not None else life_note)
+                     None if life is not None else life_note, band)
     lift = float(np.ptp(motion[0]))
     findings = [*analysis.findings, *_findings(analysis, record, resonant, lift)]
     return replace(analysis, at_speed=record, findings=findings)

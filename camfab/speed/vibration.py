@@ -22,8 +22,8 @@ from camfab.analysis.dynamics import trace_scale
 from camfab.arrays import Array, Index
 from camfab.design import Design
 from camfab.design.train import Train, train_of
-from camfab.motion.program import MotionProgram, cycle_angles
-from camfab.speed.elastic import least_force, respond, rigid_force
+from camfab.motion.program import MotionProgram, ProgramSegment, cycle_angles
+from camfab.speed.elastic import least_force, periodic_error, respond, rigid_force
 
 #: The dynamic jump speed is looked for from this share of the design speed ...
 SEARCH_FROM = 0.02
@@ -230,9 +230,9 @@ def vibration(design: Design, program: MotionProgram, held_by_spring: bool, two_
     segment, theta, motion = program.segment_grid(step)
     response = respond(train, omega, theta, motion * scale)
     rigid, _ = rigid_force(train, omega, motion * scale)
-    dwells = tuple(Dwell(seg.index, _deg(seg.start), _deg(seg.end),
-                         float(np.ptp(response.error[segment == seg.index])))
-                   for seg in program.segments if seg.kind == "dwell")
+    swings = dwell_swings(program, segment, motion[0] * scale, response.error)
+    dwells = tuple(Dwell(seg.index, _deg(seg.start), _deg(seg.end), float(swing))
+                   for seg, swing in swings)
     speed = design.cam.speed_rpm
     assert speed is not None
     search = JumpSearch(None, SEARCH_FROM * speed, SEARCH_TO * speed, False)
@@ -247,6 +247,72 @@ def vibration(design: Design, program: MotionProgram, held_by_spring: bool, two_
                      dwells, search.speed_rpm, search.low_rpm, search.high_rpm,
                      search.every_speed, changes, harmonics, amplitudes, scale, response.least,
                      response.least_at)
+
+
+def dwell_swings(program: MotionProgram, segment: Index, lift: Array,
+                 error: Array) -> list[tuple[ProgramSegment, Array]]:
+    """Each dwell of *program* with the vibration left in it: the peak-to-peak swing (m) of the
+    mass's position x = s + e over the dwell, from the cam's *lift* s and the dynamic *error* e
+    (m) on the grid whose points lie in the segments *segment* (the last axis of *error*; any
+    before it, several speeds). The cam's lift is constant in a dwell, so this is the error's
+    swing; a polydyne cam's moves there (the tail of its damped solution) while the mass stands
+    still."""
+    out = []
+    for seg in program.segments:
+        if seg.kind == "dwell":
+            inside = segment == seg.index
+            moved = lift[inside] - lift[inside][0]
+            out.append((seg, np.ptp(error[..., inside] + moved, axis=-1)))
+    return out
+
+
+#: A polydyne cam's vibration against speed is shown from this share of its design speed to
+#: that, :data:`BAND_STEPS` steps each side (1 % apart).
+BAND_FROM, BAND_TO, BAND_STEPS = 0.6, 1.4, 40
+
+
+@dataclass(frozen=True)
+class SpeedBand:
+    """A polydyne cam's vibration against speed, beside its motion list cut directly as the
+    cam: the speeds (rpm), the largest dwell swing (m) at each of the polydyne cam and of the
+    direct cam (NaN where the train resonates: :data:`BUILD_UP_LIMIT`), and the band of speeds
+    about the design speed over which the polydyne cam rings less (rpm)."""
+
+    speeds_rpm: Array
+    polydyne_m: Array
+    direct_m: Array
+    low_rpm: float
+    high_rpm: float
+
+
+def speed_band(train: Train, cam: MotionProgram, direct: MotionProgram, speed_rpm: float,
+               scale: float, step: float) -> SpeedBand:
+    """The vibration against speed of the *cam* (a polydyne cam's lift, cut for *speed_rpm*)
+    and of the *direct* cam (its motion list as the lift), with the *train* at its trace point
+    (*scale* m per unit of lift) on the analysis grid of *step* (rad)."""
+    steps = np.arange(-BAND_STEPS, BAND_STEPS + 1)
+    share = np.where(steps < 0, 1.0 + steps * ((1.0 - BAND_FROM) / BAND_STEPS),
+                     1.0 + steps * ((BAND_TO - 1.0) / BAND_STEPS))
+    speeds = speed_rpm * share
+    omega = speeds * (math.pi / 30.0)
+    usable = np.array([build_up(train, w) <= BUILD_UP_LIMIT for w in omega])
+    found = []
+    for program in (cam, direct):
+        segment, theta, motion = program.segment_grid(step)
+        lifted = motion * scale
+        with np.errstate(all="ignore"):
+            force, rate = rigid_force(train, omega[:, None], lifted[:, None, :])
+            error = periodic_error(train, omega, theta, force, rate)
+        swings = [swing for _, swing in dwell_swings(program, segment, lifted[0], error)]
+        found.append(np.where(usable, np.max(swings, axis=0), np.nan))
+    polydyne, plain = found
+    better = polydyne < plain
+    low = high = BAND_STEPS
+    while low > 0 and better[low - 1]:
+        low -= 1
+    while high < steps.size - 1 and better[high + 1]:
+        high += 1
+    return SpeedBand(speeds, polydyne, plain, float(speeds[low]), float(speeds[high]))
 
 
 @dataclass(frozen=True)
