@@ -323,7 +323,38 @@ def _disc(d: Draw, follower: str, motion: str) -> dict[str, Any]:
     elif _chance(d, 0.2):
         data["limits"] = {"pressure_angle": d.choice([25, 30, 35, 40])}
     data["manufacturing"] = _manufacturing(d, rb)
+    if _chance(d, 0.1):
+        _polydyne(d, data)
     return data
+
+
+def _polydyne(d: Draw, data: dict[str, Any]) -> None:
+    """Make *data* a polydyne cam (``motion_target: output``): its rises and returns on the
+    5-6-7-8-9 polynomial or an order-6 spline, a speed and an elastic train stiff enough that
+    the cam's lift stays near the motion (its natural frequency at least 14/β times the cam's
+    turning, β the shortest motion's angle in radians: the inertia term m ω² x″/k_f then some
+    5 % of the lift at most). A program with a table keeps its own laws (left as it was)."""
+    motion = data["motion"]
+    bodies = [next(iter(seg.values())) for seg in motion]
+    if any(body.get("law") == "table" for body in bodies):
+        return
+    spans = [math.radians(body["angle"]) for seg, body in zip(motion, bodies, strict=True)
+             if "dwell" not in seg]
+    for seg, body in zip(motion, bodies, strict=True):
+        if "dwell" in seg:
+            continue
+        for key in ("blend", "start", "end", "points", "order", "controls"):
+            body.pop(key, None)
+        body["law"] = "polynomial-56789" if _chance(d, 0.7) else "spline"
+    cam, fol = data["cam"], data["follower"]
+    cam.setdefault("speed_rpm", _round(d.uniform(60, 1500), 10))
+    fol.setdefault("mass", _round(d.uniform(0.05, 2.0), 0.05))
+    omega = float(cam["speed_rpm"]) * math.pi / 30.0
+    ratio = d.uniform(1.0, 2.0) * max(8.0, 14.0 / min(spans))
+    fol["stiffness"] = f"{_one_figure(fol['mass'] * (ratio * omega) ** 2 / 1000.0 * 1.2)} N/mm"
+    if _chance(d, 0.7):
+        fol["damping_ratio"] = d.choice([0.0, 0.02, 0.05, 0.1])
+    data["motion_target"] = "output"
 
 
 def _shaped(d: Draw, shape: str, follower: str) -> dict[str, Any]:
