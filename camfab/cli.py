@@ -30,7 +30,7 @@ if TYPE_CHECKING:
     from camfab.inspect import Inspection, InspectOptions
     from camfab.inspect.scan_run import ScanResult
     from camfab.sweep.run import SweepOptions
-    from camfab.tune.run import TuneOptions
+    from camfab.tune.plan import TuneOptions
 
 STARTER_KINDS = ("disc-roller", "disc-knife", "disc-flat", "disc-mushroom", "oscillating",
                  "oscillating-flat", "cylindrical", "circular-arc", "tangent", "groove",
@@ -343,7 +343,7 @@ def tune(design: str, segments: str | None, objective: str | None, speeds: str |
     after. Exit 0 when the tuned design meets every limit, 1 when no candidate does (the report
     says why, no design is written), 2 for bad input (nothing written); Ctrl-C writes the best
     found so far and stops (130)."""
-    from camfab.tune.run import TuneOptions
+    from camfab.tune.plan import TuneOptions
 
     if progress is None:
         progress = sys.stderr.isatty()

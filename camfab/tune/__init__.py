@@ -15,6 +15,9 @@ the design, and the tuned design written beside the old with only those values c
   linear programme (the global optimum of that convex sub-problem);
 - :mod:`camfab.tune.search` — the search: the standard laws tried, then the continuous
   parameters from several deterministic starts;
+- :mod:`camfab.tune.summary` — what was found, in words: the lines printed, the report's rows;
 - :mod:`camfab.tune.page` — the comparison report, before against after;
-- :mod:`camfab.tune.run` — the command end to end: options checked, the search, the files.
+- :mod:`camfab.tune.plan` — the options and the design checked before any search, and the
+  tuned design's text;
+- :mod:`camfab.tune.run` — the command end to end: the plan, the search, the files.
 """

@@ -8,7 +8,8 @@ data (``("motion", 0, "rise", "law")``), which is also the path the design file'
 
 - :class:`LawChoice` — a segment that follows one of the standard laws may follow another: a
   discrete choice among those that need no data of their own (the search keeps only those
-  whose joints with the neighbours are as continuous as the design's were).
+  whose joints with the neighbours are as continuous as the design's were). A segment that
+  follows ``modified-uniform-velocity`` has its blend tuned instead.
 - :class:`PolynomialPoints` — a ``polynomial`` law's ``points``: each point's angle stays, its
   lift is free between the segment's start and end lifts (its share of the segment's lift in
   [0, 1]). The end conditions (``start``, ``end``) stay: they are the joints' continuity.
@@ -135,8 +136,8 @@ class LawChoice(ChoiceFamily):
     def of(cls, index: int, kind: str, entry: dict[str, Any], segment: ProgramSegment,
            design: Design) -> LawChoice | None:
         options = standard_laws()
-        if segment.law_name not in options:
-            return None
+        if segment.law_name not in options or segment.law_name == "modified-uniform-velocity":
+            return None  # (a blend's segment is tuned by its blend)
         return cls(index, kind, options, segment.law_name)
 
     def written(self, option: str) -> list[Written]:
@@ -244,7 +245,7 @@ class PolynomialPoints(ContinuousFamily):
 
 
 #: Every family, tried in order on each segment tuned: the first that applies is its.
-FAMILIES: tuple[type[Family], ...] = (LawChoice, Blend, PolynomialPoints)
+FAMILIES: tuple[type[Family], ...] = (Blend, PolynomialPoints, LawChoice)
 
 
 @dataclass(frozen=True)

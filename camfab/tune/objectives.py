@@ -6,9 +6,16 @@
   (:attr:`camfab.analysis.vibration.Vibration.residual_m`). It is computed straight from the
   train's exact periodic response (:func:`camfab.analysis.elastic.periodic_response`, every
   speed of the band in one call, on the analysis grid) rather than a whole analysis per speed.
-- ``acceleration``, ``jerk`` — the peak |s″| or |s‴| over the cycle, per radian² or radian³ of
-  cam angle (mm, or rad of an arm's swing): the motion program's own peaks, inside the
-  segments (a step at a joint is the continuity check's, which the search keeps as it was).
+- ``acceleration``, ``jerk`` — the peak |s″| or |s‴| over the segments tuned (by default every
+  rise and return: the cycle's peak), per radian² or radian³ of cam angle (mm, or rad of an
+  arm's swing): the motion program's own peaks, inside the segments (a step at a joint is the
+  continuity check's, which the search keeps as it was). Over the segments tuned, not the
+  whole cycle: a segment left as it is would otherwise hide what tuning the others gains.
+
+Each objective is measured with a tie-break (:meth:`Objective.measure`): the sum of the parts whose
+largest is the objective (each tuned segment's peak; the residual at each speed), so that a
+change that lowers one part without lowering the largest counts as a gain — the search changes
+one segment's law at a time, and with two segments at the same peak neither alone lowers it.
 - ``stress`` — the largest Hertz contact stress over the cycle at the design speed (MPa).
 - ``torque`` — the largest camshaft torque at the design speed (N·m): camfab's rigid dynamics,
   T = F·ds/dθ with F the contact force along the follower's motion (spring, preload, loads and
@@ -22,6 +29,7 @@ from __future__ import annotations
 
 import math
 from abc import ABC, abstractmethod
+from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -55,13 +63,15 @@ class Objective(ABC):
         """Why *design* (with its *analysis*) has no value of this objective, or None."""
         return None
 
-    def of_design(self, design: Design) -> float:
-        """The objective of *design* from its motion program (not :attr:`needs_analysis`)."""
+    def measure(self, design: Design) -> tuple[float, float]:
+        """The objective of *design* from its motion program (not :attr:`needs_analysis`),
+        and its tie-break: which of two candidates of the same objective is better (less; 0
+        where nothing tells them apart)."""
         raise NotImplementedError
 
-    def of_analysis(self, analysis: Analysis) -> float:
-        """The objective of a candidate from its *analysis*."""
-        return self.of_design(analysis.design)
+    def measure_analysis(self, analysis: Analysis) -> tuple[float, float]:
+        """The objective of a candidate and its tie-break from its *analysis*."""
+        return self.measure(analysis.design)
 
 
 def _nan_as_inf(value: float | None) -> float:
@@ -86,8 +96,9 @@ class Residual(Objective):
     def why_not(self, design: Design, analysis: Analysis) -> str | None:
         return residual_missing(design, analysis)
 
-    def of_design(self, design: Design) -> float:
-        return _nan_as_inf(float(np.max(residuals(design, self.speeds_rpm))))
+    def measure(self, design: Design) -> tuple[float, float]:
+        found = residuals(design, self.speeds_rpm)
+        return _nan_as_inf(float(np.max(found))), _nan_as_inf(float(np.sum(found)))
 
 
 def residual_missing(design: Design, analysis: Analysis) -> str | None:
@@ -136,19 +147,28 @@ def residuals(design: Design, speeds_rpm: Array) -> Array:
 
 
 class Peak(Objective):
-    """The peak |s″| (*order* 2) or |s‴| (3) over the cycle, per radianⁿ of cam angle."""
+    """The peak |s″| (*order* 2) or |s‴| (3) over the segments *indices*, per radianⁿ of cam
+    angle."""
 
-    def __init__(self, order: int, oscillating: bool) -> None:
+    def __init__(self, order: int, oscillating: bool, indices: Sequence[int]) -> None:
         self.order = order
+        self.indices = tuple(indices)
         self.name = "acceleration" if order == 2 else "jerk"
         lift = "rad" if oscillating else "mm"
         self.unit = f"{lift}/rad{'²' if order == 2 else '³'}"
 
     def words(self) -> str:
-        return f"the peak {self.name} |s{'″' if self.order == 2 else '‴'}| over the cycle"
+        where = ", ".join(f"motion[{i}]" for i in self.indices)
+        return f"the peak {self.name} |s{'″' if self.order == 2 else '‴'}| over {where}"
 
-    def of_design(self, design: Design) -> float:
-        return _nan_as_inf(design.program.peak(self.order))
+    def peaks(self, design: Design) -> list[float]:
+        """The peak of each segment tuned."""
+        segments = design.program.segments
+        return [segments[i].peak(self.order) for i in self.indices]
+
+    def measure(self, design: Design) -> tuple[float, float]:
+        found = self.peaks(design)
+        return _nan_as_inf(max(found)), _nan_as_inf(sum(found))
 
 
 class Stress(Objective):
@@ -166,10 +186,10 @@ class Stress(Objective):
             return f"the contact stress is not computed: {note or 'no speed'}"
         return None
 
-    def of_analysis(self, analysis: Analysis) -> float:
+    def measure_analysis(self, analysis: Analysis) -> tuple[float, float]:
         speed = analysis.at_speed
         return _nan_as_inf(None if speed is None or speed.stress is None
-                           else speed.stress.max_MPa)
+                           else speed.stress.max_MPa), 0.0
 
 
 class Torque(Objective):
@@ -187,17 +207,19 @@ class Torque(Objective):
                     "spring (follower.mass, cam.speed_rpm, spring)")
         return None
 
-    def of_analysis(self, analysis: Analysis) -> float:
+    def measure_analysis(self, analysis: Analysis) -> tuple[float, float]:
         dyn = analysis.dynamics
-        return _nan_as_inf(None if dyn is None else dyn.max_torque_N_m)
+        return _nan_as_inf(None if dyn is None else dyn.max_torque_N_m), 0.0
 
 
-def objective_of(name: str, design: Design, speeds_rpm: Array) -> Objective:
-    """The objective called *name* for *design*, the residual's over *speeds_rpm*."""
+def objective_of(name: str, design: Design, speeds_rpm: Array,
+                 indices: Sequence[int]) -> Objective:
+    """The objective called *name* for *design*, the residual's over *speeds_rpm*, the
+    peaks' over the segments *indices*."""
     if name == "residual":
         return Residual(speeds_rpm)
     if name in ("acceleration", "jerk"):
-        return Peak(2 if name == "acceleration" else 3, design.follower.oscillating)
+        return Peak(2 if name == "acceleration" else 3, design.follower.oscillating, indices)
     return Stress() if name == "stress" else Torque()
 
 

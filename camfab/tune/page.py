@@ -18,7 +18,7 @@ from camfab.arrays import Array
 
 if TYPE_CHECKING:
     from camfab.design import Design
-    from camfab.tune.run import Plan
+    from camfab.tune.plan import Plan
     from camfab.tune.search import Search
 
 #: Speeds of the objective's curve over the band: the program's objectives (cheap) ...
@@ -36,7 +36,7 @@ def render_report(tuning: Plan, search: Search, stopped: bool) -> bytes:
     import jinja2
 
     from camfab.pipeline import design_from_mapping
-    from camfab.tune.run import changed
+    from camfab.tune.plan import changed
     from camfab.tune.summary import (
         margin_rows,
         number,
@@ -168,7 +168,7 @@ def _against_speed(tuning: Plan, design: Design, data: dict[str, Any],
         return residuals(design, speeds), objective.unit
     if isinstance(objective, Peak):
         omega = speeds * (math.pi / 30.0)
-        peak = design.program.peak(objective.order)
+        peak = max(objective.peaks(design))
         oscillating = design.follower.oscillating
         scale = 1.0 if oscillating else trace_scale(design)
         unit = ("rad/s" if oscillating else "m/s") + ("²" if objective.order == 2 else "³")
@@ -178,5 +178,5 @@ def _against_speed(tuning: Plan, design: Design, data: dict[str, Any],
     for speed in speeds:
         _, _, analysis = checked(with_values(data, [("cam", "speed_rpm")], [float(speed)]),
                                  ev.file, ev.folder)
-        values.append(math.nan if analysis is None else objective.of_analysis(analysis))
+        values.append(math.nan if analysis is None else objective.measure_analysis(analysis)[0])
     return np.array(values), objective.unit

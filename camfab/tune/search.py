@@ -122,7 +122,7 @@ class Search:
             return WALL * self.scale
         if not penalised and not trial.checked:
             return trial.objective
-        if not trial.checked and (self.best is None or trial.objective < self.best.objective):
+        if not trial.checked and (self.best is None or trial.rank < self.best.rank):
             self.evaluator.check(trial)
             if trial.out is not None or not math.isfinite(trial.objective):
                 return WALL * self.scale
@@ -135,7 +135,7 @@ class Search:
 
     def _offer(self, trial: Trial) -> None:
         if trial.feasible:
-            if self.best is None or trial.objective < self.best.objective:
+            if self.best is None or trial.rank < self.best.rank:
                 self.best = trial
         elif trial.checked and trial.out is None and (
                 self.closest is None or trial.violation < self.closest.violation):
@@ -164,7 +164,7 @@ class Search:
                     self.score(trial)
                     if round_ == 0:
                         tried.append(Tried(pos, option, trial))
-                    if trial.feasible and (winner is None or trial.objective < winner.objective):
+                    if trial.feasible and (winner is None or trial.rank < winner.rank):
                         winner = trial
                 if winner is not None and winner.assignment[pos] != kept:
                     assignment[pos] = winner.assignment[pos]
@@ -272,7 +272,7 @@ class Search:
         if not answer.solved:
             self.convex_note = f"the linear programme was not solved: {answer.message}"
             return None
-        self.convex_note = (f"the least peak {objective.name} of the tuned polynomials is "
+        self.convex_note = (f"the tuned polynomials' least peak {objective.name} is "
                             f"{answer.t:.10g} {objective.unit} (a linear programme solved by "
                             f"HiGHS, {answer.rounds} round(s) of its exchange)")
         return answer.x

@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING
 from camfab.tune.margins import Margin
 
 if TYPE_CHECKING:
-    from camfab.tune.run import Plan
+    from camfab.tune.plan import Plan
     from camfab.tune.search import Search
     from camfab.tune.trials import Trial
 
@@ -83,7 +83,7 @@ def why_none(search: Search) -> str:
 def summary_lines(tuning: Plan, search: Search, stopped: bool,
                   written: Sequence[Path]) -> list[str]:
     """The lines ``camfab tune`` prints (see the module)."""
-    from camfab.tune.run import changed
+    from camfab.tune.plan import changed
 
     name = tuning.options.design.stem
     best = search.best
@@ -100,7 +100,7 @@ def summary_lines(tuning: Plan, search: Search, stopped: bool,
         if not values:
             lines.append("  the design's own laws are the best found: nothing changed")
         if search.global_optimum:
-            lines.append(f"  the global optimum: {search.convex_note}")
+            lines.append(f"  the polynomials are at their global optimum: {search.convex_note}")
     for u in tuning.untuned:
         lines.append(f"  motion[{u.index}] not tuned: {u.why}")
     before = search.before.margins if search.before is not None else []

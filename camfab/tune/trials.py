@@ -49,11 +49,17 @@ class Trial:
     written: tuple[Written, ...]
     data: dict[str, Any]
     objective: float = math.inf
+    tiebreak: float = math.inf
     out: str | None = None
     status: str | None = None
     message: str = ""
     margins: list[Margin] = field(default_factory=list)
     violation: float = 0.0
+
+    @property
+    def rank(self) -> tuple[float, float]:
+        """What candidates are compared by: the objective, then its tie-break."""
+        return self.objective, self.tiebreak
 
     @property
     def checked(self) -> bool:
@@ -151,7 +157,7 @@ class Evaluator:
             self.check(trial)
         else:
             with _quiet():
-                trial.objective = self.objective.of_design(design)
+                trial.objective, trial.tiebreak = self.objective.measure(design)
         return trial
 
     def design_of(self, assignment: Assignment) -> Design:
@@ -179,7 +185,7 @@ class Evaluator:
         trial.margins = margins(analysis.findings)
         trial.violation = violation(trial.margins)
         with _quiet():  # the objective of the design as the file will hold it
-            trial.objective = self.objective.of_analysis(analysis)
+            trial.objective, trial.tiebreak = self.objective.measure_analysis(analysis)
 
 
 @contextmanager
