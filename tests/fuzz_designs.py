@@ -87,7 +87,8 @@ KNOWN_KEYS = ["name", "description", "units", "cam", "follower", "motion", "spri
               "travel", "law", "blend", "start", "end", "points", "csv", "rate", "preload",
               "initial_compression", "gravity", "damping", "external_load", "pressure_angle",
               "min_radius_of_curvature", "tolerance", "kerf", "cutter_radius", "width", "depth",
-              "velocity", "acceleration", "jerk", "rise", "return", "fall", "dwell"]
+              "velocity", "acceleration", "jerk", "snap", "order", "controls", "rise",
+              "return", "fall", "dwell"]
 odd_keys = st.one_of(
     st.sampled_from(KNOWN_KEYS), st.sampled_from(KNOWN_KEYS), st.text(min_size=1, max_size=10),
     st.sampled_from(["名前", "base_radiüs", "ｎａｍｅ", "Name", "NAME", "cam ", " cam", "<<", "?",
@@ -163,9 +164,9 @@ def scaled(value: Any, factor: float) -> Any:
 #: design camfab builds (absurd numbers, other types and combinations, odd motion programs).
 MUTATIONS = ("value", "value", "scale", "scale", "scale", "delete", "add", "rename", "wrap",
              "choice", "choice", "motion", "motion", "motion", "swap", "alias", "conditions",
-             "points", "auto")
+             "points", "auto", "spline")
 BUILDABLE = ("scale", "scale", "scale", "scale", "choice", "motion", "motion", "swap",
-             "conditions", "points", "auto")
+             "conditions", "points", "auto", "spline")
 
 #: Where ``auto`` asks camfab to size a design (and some keys it does not size).
 AUTO_PATHS = (("cam", "base_radius"), ("cam", "base_radius"), ("cam", "radius"),
@@ -266,7 +267,7 @@ def _mutate(draw: Any, data: dict[str, Any], ops: tuple[str, ...] = MUTATIONS,
         segment = _a_segment(draw, data, moving=True)
         if segment is not None:
             segment["law"] = draw(st.sampled_from(["polynomial", "polynomial", "polynomial",
-                                                   "table", "cycloidal"]))
+                                                   "table", "spline", "cycloidal"]))
             for end in draw(st.sets(st.sampled_from(["start", "end"]), min_size=1)):
                 segment[end] = {k: draw(st.one_of(
                     st.sampled_from([0, 0, "match", "match", 1, -1, 0.5, 10, -10, 1e6, "MATCH",
@@ -274,6 +275,17 @@ def _mutate(draw: Any, data: dict[str, Any], ops: tuple[str, ...] = MUTATIONS,
                     for k in draw(st.sets(st.sampled_from(["velocity", "acceleration", "jerk",
                                                            "snap" if wild else "jerk"]),
                                           min_size=1))}
+        return data
+    if op == "spline":  # a B-spline law: its order and free control values, odd or not
+        segment = _a_segment(draw, data, moving=True)
+        if segment is not None:
+            segment["law"] = "spline"
+            if draw(st.booleans()):
+                segment["order"] = draw(st.one_of(st.sampled_from([4, 5, 6, 7, 10]), odd))
+            if draw(st.booleans()):
+                segment["controls"] = draw(st.one_of(
+                    st.integers(0, 12), st.lists(st.one_of(st.floats(0, 1), odd), max_size=8),
+                    odd))
         return data
     if op == "points":
         segment = _a_segment(draw, data, moving=True)

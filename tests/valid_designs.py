@@ -50,10 +50,11 @@ KINDS: tuple[str, ...] = (
 LAWS: tuple[str, ...] = (
     "uniform-velocity", "modified-uniform-velocity", "uniform-acceleration", "harmonic",
     "cycloidal", "polynomial-23", "polynomial-345", "polynomial-4567", "modified-trapezoid",
-    "modified-sine", "double-harmonic", "polynomial", "table",
+    "modified-sine", "double-harmonic", "polynomial", "table", "spline",
 )
 ALIASES: tuple[str, ...] = ("shm", "cubic", "parabolic", "simple-harmonic")
-#: The laws a linear cam takes (a polynomial's or a table's conditions are per cam angle).
+#: The laws a linear cam takes (a polynomial's or a table's conditions are per cam angle; a
+#: spline's are never drawn for one).
 STANDARD_LAWS = tuple(law for law in LAWS if law not in ("polynomial", "table"))
 #: The smooth laws most designs use: a designer picks one of these more often than not.
 SMOOTH_LAWS = ("cycloidal", "polynomial-345", "modified-sine", "modified-trapezoid",
@@ -173,6 +174,16 @@ def _segment(d: Draw, kind: str, span: float, lift: float | None, rising: bool,
         body["end"] = dict(zero)
         if _chance(d, 0.3):
             body["start"] = {k: "match" for k in zero}
+    if law == "spline":
+        if _chance(d, 0.5):
+            body["order"] = d.randint(4, 8)
+        if _chance(d, 0.4):
+            body["controls"] = d.randint(0, 8)
+        elif _chance(d, 0.5):  # increasing values: a rise (or return) that never turns back
+            body["controls"] = sorted(_round(d.uniform(0.0, 1.0), 0.01)
+                                      for _ in range(d.randint(1, 6)))
+        if span_key == "angle" and _chance(d, 0.3):
+            body["start"] = {"velocity": "match", "acceleration": "match"}
     return {kind: body}
 
 

@@ -355,13 +355,17 @@ class _Linear(CamTypeSpec):
                  "starts: the offset must be 0 (a dwell shifts the motion along the cam)")
 
     def check_span(self, design: Design, index: int, segment: Segment) -> None:
-        """A travel takes the standard laws only."""
+        """A travel takes the standard laws, and a spline at rest at its ends."""
         if segment.law in ("polynomial", "table"):
             from camfab.motion.laws import LAW_NAMES
 
             fail(("motion", index, "law"), "a linear cam's segments take the standard laws (a "
                  "polynomial's or a table's conditions and points are per cam angle)",
                  allowed=", ".join(n for n in LAW_NAMES if n not in ("polynomial", "table")))
+        for key in ("start", "end"):
+            if segment.law == "spline" and getattr(segment, key) is not None:
+                fail(("motion", index, key), "a linear cam's spline takes no end conditions "
+                     "(they are per cam angle): it starts and ends at rest", show_got=False)
 
     def check_motion(self, design: Design) -> None:
         """The segments must cover the stroke exactly."""

@@ -15,7 +15,7 @@ from typing import Any, NoReturn
 from pydantic import ValidationError
 
 from camfab.design.cam_types import CAM_TYPES, CamTypeSpec
-from camfab.design.model import MATERIAL_TAGS, NAME_RULE, Design, Sized
+from camfab.design.model import NAME_RULE, UNION_TAGS, Design, Sized
 from camfab.design.rules import RuleViolation
 from camfab.design.source import Path_, SourceDocument, dotted, parse_yaml, read_design_file
 from camfab.design.units import MM_PER_UNIT
@@ -23,8 +23,9 @@ from camfab.errors import DesignError, Location, did_you_mean
 
 SEGMENT_KINDS = {"rise": "rise", "return": "return", "fall": "return", "dwell": "dwell"}
 
-_TOP = ("name", "description", "units", "cam", "follower", "motion", "spring", "limits",
-        "materials", "manufacturing", "inspection", "machining", "sizing", "outputs", "table_step")
+_TOP = ("name", "description", "units", "cam", "follower", "motion", "motion_target", "spring",
+        "limits", "materials", "manufacturing", "inspection", "machining", "sizing", "outputs",
+        "table_step")
 _SECTIONS: dict[str, tuple[str, ...]] = {
     "spring": ("rate", "preload", "initial_compression", "gravity", "damping", "external_load"),
     "limits": ("pressure_angle", "min_radius_of_curvature", "contact_stress", "roller_life"),
@@ -48,11 +49,12 @@ MAX_TABLE_ROWS = 20_000
 _KEYWAY = ("width", "depth")
 _MACHINE = ("b_axis_x", "b_axis_z")
 _ELASTIC = ("E", "poisson")
-_CONDITIONS = ("velocity", "acceleration", "jerk")
+_CONDITIONS = ("velocity", "acceleration", "jerk", "snap")
 _LAW_KEYS = {
     "modified-uniform-velocity": ("blend",),
     "polynomial": ("start", "end", "points"),
     "table": ("start", "end", "points", "csv"),
+    "spline": ("order", "controls", "start", "end"),
 }
 
 
@@ -371,11 +373,11 @@ class Shaper:
                           "only a linear cam's segments give a travel; this cam's give an angle")
             if kind == "dwell" and key in ("lift", "law"):
                 self.fail(("motion", i, key), "a dwell has only an angle (no lift or law)")
-            owners = [law for law, params in _LAW_KEYS.items() if key in params]
-            if owners:
-                self.fail(("motion", i, key), f"only the {' and '.join(owners)} law"
-                          f"{'s' if len(owners) > 1 else ''} take{'' if len(owners) > 1 else 's'} "
-                          f"'{key}'", got=body.get("law"))
+            if any(key in params for params in _LAW_KEYS.values()):
+                from camfab.motion.laws import laws_taking
+
+                self.fail(("motion", i, key), f"only {laws_taking(key)} '{key}'",
+                          got=body.get("law"))
 
     def _csv(self, index: int, name: Any) -> list[list[str]]:
         path = ("motion", index, "csv")
@@ -473,7 +475,8 @@ def segment_keys(kind: str, law: Any, span: str = "angle") -> tuple[str, ...]:
 
     name = canonical_law_name(law) if isinstance(law, str) else None
     if name is None:  # an unknown law is reported on its own; accept every law's parameters
-        return (span, "lift", "law", "blend", "start", "end", "points", "csv")
+        return (span, "lift", "law", "blend", "start", "end", "points", "csv", "order",
+                "controls")
     return (span, "lift", "law", *_LAW_KEYS.get(name, ()))
 
 
@@ -501,7 +504,7 @@ def first_error(exc: ValidationError, doc: SourceDocument, shaped: Shaper) -> De
     best: tuple[int, DesignError] | None = None
     for err in exc.errors(include_url=False):
         loc = tuple(p for p in err["loc"] if isinstance(p, int) or (
-            "[" not in str(p) and p not in MATERIAL_TAGS))
+            "[" not in str(p) and p not in UNION_TAGS))
         if loc and loc[-1] in ("float", "str", "function-before", "tagged-union"):
             loc = loc[:-1]
         yaml_path = shaped.yaml_path(loc)

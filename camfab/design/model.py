@@ -17,6 +17,7 @@ from functools import cached_property
 from typing import TYPE_CHECKING, Annotated, Any, Literal
 
 from pydantic import (
+    AfterValidator,
     BeforeValidator,
     Discriminator,
     Field,
@@ -172,22 +173,25 @@ class Follower(Frozen):
 
 
 class Conditions(Frozen):
-    """Boundary conditions of a polynomial or table segment at one end.
+    """Boundary conditions of a polynomial, table or spline segment at one end.
 
-    Values are derivatives of the lift per radian of cam angle (mm/rad, mm/rad², mm/rad³; rad/rad…
-    for oscillating followers), or ``"match"`` to take the neighbouring segment's value.
+    Values are derivatives of the lift per radian of cam angle (mm/rad, mm/rad², mm/rad³,
+    mm/rad⁴; rad/rad… for oscillating followers), or ``"match"`` to take the neighbouring
+    segment's value. The snap is the fourth derivative.
     """
 
     velocity: float | str | None = None
     acceleration: float | str | None = None
     jerk: float | str | None = None
+    snap: float | str | None = None
 
-    @field_validator("velocity", "acceleration", "jerk", mode="before")
+    @field_validator("velocity", "acceleration", "jerk", "snap", mode="before")
     @classmethod
     def _value(cls, value: Any, info: ValidationInfo) -> Any:
         if value is None or (isinstance(value, str) and value.strip().lower() == "match"):
             return None if value is None else "match"
-        order = {"velocity": 1, "acceleration": 2, "jerk": 3}[info.field_name or "velocity"]
+        order = {"velocity": 1, "acceleration": 2, "jerk": 3,
+                 "snap": 4}[info.field_name or "velocity"]
         try:
             return U.convert(value, U.angle_rate(order, lift_kind(info)),
                              context(info).get("units", "mm"))
@@ -196,7 +200,7 @@ class Conditions(Frozen):
 
     def items(self) -> list[tuple[int, float | str]]:
         """(order, value) for each condition given."""
-        given = ((1, self.velocity), (2, self.acceleration), (3, self.jerk))
+        given = ((1, self.velocity), (2, self.acceleration), (3, self.jerk), (4, self.snap))
         return [(order, value) for order, value in given if value is not None]
 
 
@@ -208,6 +212,63 @@ def _point(value: Any, info: ValidationInfo) -> Any:
 
 
 Point = Annotated[tuple[float, float], BeforeValidator(_point)]
+
+
+def _spline_order(value: Any) -> Any:
+    """A spline's ``order`` (degree + 1): a whole number in the range the law takes."""
+    from camfab.motion.bspline import MAX_SPLINE_ORDER, MIN_SPLINE_ORDER
+
+    if isinstance(value, bool) or not isinstance(value, int) or not (
+            MIN_SPLINE_ORDER <= value <= MAX_SPLINE_ORDER):
+        raise problem(f"must be a whole number from {MIN_SPLINE_ORDER} (a cubic) to "
+                      f"{MAX_SPLINE_ORDER}: the B-spline's degree + 1")
+    return value
+
+
+def _control_count(value: Any) -> Any:
+    """A spline's ``controls`` as a count: a whole number of free control values."""
+    from camfab.motion.bspline import MAX_SPLINE_CONTROLS
+
+    if isinstance(value, bool) or not isinstance(value, int) or not (
+            0 <= value <= MAX_SPLINE_CONTROLS):
+        raise problem(f"must be a whole number of free control values from 0 to "
+                      f"{MAX_SPLINE_CONTROLS}, or a list of them (numbers from 0 to 1)")
+    return value
+
+
+def _control_value(value: Any) -> Any:
+    """One of a spline's free control values: a number from 0 to 1 (normalised lift)."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not (
+            0.0 <= value <= 1.0):
+        raise problem("must be a number from 0 to 1 (a control value of the normalised lift)")
+    return float(value)
+
+
+def _control_values(value: Any) -> Any:
+    from camfab.motion.bspline import MAX_SPLINE_CONTROLS
+
+    if len(value) > MAX_SPLINE_CONTROLS:
+        raise problem(f"has {len(value)} control values; a spline takes at most "
+                      f"{MAX_SPLINE_CONTROLS}")
+    return value
+
+
+#: The tags of a spline's ``controls`` two forms, which pydantic's errors carry in their
+#: location.
+CONTROLS_TAGS = ("controls-count", "controls-values")
+
+
+def _controls_form(value: Any) -> str:
+    """Which form of a spline's ``controls`` *value* is: its values (a list), else a count."""
+    return CONTROLS_TAGS[1] if isinstance(value, (list, tuple)) else CONTROLS_TAGS[0]
+
+
+#: A spline's free control values: how many (the smooth rise's values), or the values.
+Controls = Annotated[
+    Annotated[Annotated[int, BeforeValidator(_control_count)], Tag(CONTROLS_TAGS[0])]
+    | Annotated[Annotated[tuple[Annotated[float, BeforeValidator(_control_value)], ...],
+                          AfterValidator(_control_values)], Tag(CONTROLS_TAGS[1])],
+    Discriminator(_controls_form)]
 
 
 #: The follower train's damping ratio ζ when a design gives a ``stiffness`` and no
@@ -236,6 +297,8 @@ class Segment(Frozen):
     end: Conditions | None = None
     points: tuple[Point, ...] | None = None
     csv: str | None = None
+    order: Annotated[int, BeforeValidator(_spline_order)] | None = None
+    controls: Controls | None = None
 
     @field_validator("law", mode="before")
     @classmethod
@@ -320,6 +383,8 @@ def _material(value: Any) -> Any:
 
 #: The tags of a material's two forms, which pydantic's errors carry in their location.
 MATERIAL_TAGS = ("material-name", "material-constants")
+#: The tags of the design's tagged unions, left out of the locations errors give.
+UNION_TAGS = (*MATERIAL_TAGS, *CONTROLS_TAGS)
 
 
 
@@ -430,6 +495,10 @@ class Design(Frozen):
     cam: Cam
     follower: Follower
     motion: Annotated[tuple[Segment, ...], Field(min_length=1)] | None = None
+    #: What ``motion`` describes: the cam's lift (``cam``), or the motion of the follower's
+    #: mass (``output``: a polydyne cam, its lift computed through the elastic train at
+    #: ``cam.speed_rpm``).
+    motion_target: Literal["cam", "output"] = "cam"
     spring: Spring | None = None
     limits: Limits = Limits()
     materials: Materials = Materials()
@@ -453,8 +522,23 @@ class Design(Frozen):
 
     @cached_property
     def program(self) -> MotionProgram:
-        """The motion program s(θ): of ``motion``, or of the cam's shape for a circular-arc or
-        tangent cam (built once; the rules build it to check it)."""
+        """The motion program s(θ) of the cam's lift: of ``motion``, or of the cam's shape for a
+        circular-arc or tangent cam, or, with ``motion_target: output``, the polydyne cam's
+        lift that makes the follower's mass follow ``motion`` (built once; the rules build it
+        to check it)."""
+        output = self.output_program
+        if self.motion_target == "cam":
+            return output
+        from camfab.design.train import polydyne_terms
+        from camfab.motion.polydyne import PolydyneProgram
+
+        assert self.cam.speed_rpm is not None, "the rules require a speed"
+        return PolydyneProgram(output, polydyne_terms(self), self.cam.speed_rpm)
+
+    @cached_property
+    def output_program(self) -> MotionProgram:
+        """The follower's motion the design asks for: the cam's lift (:attr:`program`) unless
+        ``motion_target`` is ``output``, where it is the motion of the follower's mass."""
         return self.cam.spec.program(self)
 
     @cached_property

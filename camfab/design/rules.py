@@ -15,7 +15,7 @@ from camfab.curves.follower import FollowerGeometry
 from camfab.errors import CamfabError, DesignError
 
 if TYPE_CHECKING:
-    from camfab.design.model import Design
+    from camfab.design.model import Design, Segment
     from camfab.motion.program import MotionProgram
 
 #: Smallest wall of material camfab accepts between a groove or bore and the part's edge (mm):
@@ -76,6 +76,8 @@ def check_rules(design: Design, sizing: frozenset[str] = frozenset()) -> None:
     the sized design, which is checked in full."""
     _check_cam(design, sizing)
     _check_follower(design, sizing)
+    if design.motion_target == "output":
+        _check_polydyne_train(design)
     program = _check_motion(design, sizing)
     if not sizing:
         _check_oscillating(design, program.max_lift)
@@ -172,13 +174,7 @@ def _check_motion(design: Design, sizing: frozenset[str]) -> MotionProgram:
         if seg.law is None:
             fail(("motion", i, "law"), f"required for a {seg.kind}", show_got=False,
                  allowed=_law_names())
-        if seg.blend is not None and seg.law != "modified-uniform-velocity":
-            fail(("motion", i, "blend"), "only the modified-uniform-velocity law takes a blend")
-        if seg.law not in ("polynomial", "table"):
-            for key in ("start", "end", "points"):
-                if getattr(seg, key) is not None:
-                    fail(("motion", i, key), "only polynomial and table laws take " + key,
-                         show_got=False)
+        _check_law_keys(i, seg)
         if seg.law == "table" and not seg.points:
             fail(("motion", i, "points"), "a table law needs points (or a csv file)",
                  show_got=False)
@@ -186,6 +182,8 @@ def _check_motion(design: Design, sizing: frozenset[str]) -> MotionProgram:
             fail(("motion", i, "lift"), "required for a rise", show_got=False)
     spec.check_motion(design)
     try:
+        if design.motion_target == "output":
+            _check_polydyne_laws(design)
         program = design.program
     except ProgramError as exc:
         path: tuple[str | int, ...] = ("motion",) if exc.index is None else ("motion", exc.index)
@@ -197,6 +195,50 @@ def _check_motion(design: Design, sizing: frozenset[str]) -> MotionProgram:
         _check_steepness(design, program)
     spec.check_program(design, program)
     return program
+
+
+def _check_polydyne_train(design: Design) -> None:
+    """A polydyne cam (``motion_target: output``) needs a motion list and the elastic follower
+    train it is computed through: the follower's stiffness and mass and the cam's speed."""
+    if design.motion is None:
+        fail(("motion_target",), f"a {design.cam.type} cam's motion comes from its shape: only "
+             "a motion list can describe the follower's mass (motion_target: output)")
+    if design.follower.stiffness is None:
+        fail(("motion_target",), "a polydyne cam is computed through the elastic follower "
+             "train: give follower.stiffness (N/mm), follower.mass (kg) and cam.speed_rpm")
+    _check_at_speed_ranges(design)
+    _check_train(design)
+
+
+#: The laws a polydyne cam's output motion may follow, as the refusal names them.
+POLYDYNE_LAWS = "polynomial-56789 or spline (of order 6 or more)"
+
+
+def _check_polydyne_laws(design: Design) -> None:
+    """Under ``motion_target: output`` the cam's acceleration carries the output's fourth
+    derivative: every law must have its first four derivatives continuous, at its joints too."""
+    from camfab.motion.polydyne import rough_joints
+
+    for index, why in rough_joints(design.output_program):
+        fail(("motion", index, "law"), f"{why}: a polydyne cam's acceleration carries the "
+             f"follower's fourth derivative (motion_target: output), so its laws need four "
+             f"continuous derivatives at every joint: use {POLYDYNE_LAWS}", show_got=False)
+
+
+#: The segment keys that belong to some laws (the others take them as not given).
+LAW_KEYS = ("blend", "start", "end", "points", "order", "controls")
+
+
+def _check_law_keys(index: int, segment: Segment) -> None:
+    """A key of a law's own (a blend, conditions, points, a spline's order and controls) only
+    on a segment of a law that takes it (:data:`camfab.motion.laws.LAWS`' params)."""
+    from camfab.motion.laws import LAW_INFO, laws_taking
+
+    takes = LAW_INFO[segment.law].params if segment.law in LAW_INFO else ()
+    for key in LAW_KEYS:
+        if getattr(segment, key) is not None and key not in takes:
+            fail(("motion", index, key), f"only {laws_taking(key)} {key}",
+                 show_got=key == "blend")
 
 
 #: How far (a share of the top lift) a segment may stray below zero lift or above the program's

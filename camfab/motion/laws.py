@@ -14,8 +14,12 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from camfab.motion.law import Array, Law, Mirrored, as_unit_array
-from camfab.motion.polynomial import (POLYNOMIAL_23, POLYNOMIAL_345, POLYNOMIAL_4567,
-                                      POLYNOMIAL_56789)
+from camfab.motion.polynomial import (
+    POLYNOMIAL_23,
+    POLYNOMIAL_345,
+    POLYNOMIAL_4567,
+    POLYNOMIAL_56789,
+)
 from camfab.motion.scca import SCCA
 
 PI = math.pi
@@ -195,6 +199,9 @@ LAWS: tuple[LawInfo, ...] = (
             ("start", "end", "points"), "as the boundary conditions make it"),
     LawInfo("table", (), "user points through a quintic spline (C4)",
             ("points", "csv", "start", "end"), "as the end conditions make it"),
+    LawInfo("spline", (), "B-spline of an order (default 6: C4) with free control values",
+            ("order", "controls", "start", "end"),
+            "derivatives to order − 2 as the end conditions make them (0 by default)"),
 )
 
 LAW_NAMES: tuple[str, ...] = tuple(info.name for info in LAWS)
@@ -218,6 +225,15 @@ _FIXED: dict[str, Law] = {
 
 DWELL = Dwell()
 DEFAULT_BLEND = 0.25
+
+
+def laws_taking(key: str) -> str:
+    """Which laws take the segment key *key*, as a sentence's subject and verb: "the table law
+    takes", "the polynomial, table and spline laws take" (empty when none does)."""
+    owners = [info.name for info in LAWS if key in info.params]
+    if len(owners) < 2:
+        return f"the {owners[0]} law takes" if owners else ""
+    return f"the {', '.join(owners[:-1])} and {owners[-1]} laws take"
 
 
 def canonical_law_name(name: str) -> str | None:

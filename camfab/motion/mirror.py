@@ -18,6 +18,7 @@ import numpy as np
 
 from camfab.arrays import Array
 from camfab.motion.program import (
+    DATA_LAWS,
     MotionProgram,
     ProgramError,
     ProgramSegment,
@@ -59,9 +60,9 @@ def half_turn(specs: Sequence[SegmentSpec]) -> MotionProgram:
             self.kind = FLIPPED[spec.kind]
             self.angle = spec.angle
             self.lift = spec.lift
-            self.law = spec.law if spec.law not in ("polynomial", "table") else "cycloidal"
+            self.law = spec.law if spec.law not in DATA_LAWS else "cycloidal"
             self.blend = spec.blend
-            self.start = self.end = self.points = None
+            self.start = self.end = self.points = self.order = self.controls = None
 
     first = list(specs)
     count = len(first)

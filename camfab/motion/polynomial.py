@@ -61,13 +61,24 @@ class PolynomialLaw(Law):
 
     def _peak_of(self, order: int) -> float:
         """max |p⁽ⁿ⁾| on [0, 1] from the ends and the real roots of p⁽ⁿ⁺¹⁾ inside."""
-        candidates = [0.0, 1.0]
-        nxt = self._derivs[order + 1]
+        return peak_of_pieces(*self.pieces(), order)
+
+
+def peak_of_pieces(breaks: Array, coefficients: Sequence[Array], order: int) -> float:
+    """max |p⁽ᵒʳᵈᵉʳ⁾| over polynomial pieces (as :meth:`Law.pieces` gives them): on each, from
+    its ends and the real roots of p⁽ᵒʳᵈᵉʳ⁺¹⁾ inside it."""
+    best = 0.0
+    for a, b, c in zip(breaks[:-1], breaks[1:], coefficients, strict=True):
+        width = float(b - a)
+        this = P.polyder(c, order)
+        nxt = P.polyder(this)
+        candidates = [0.0, width]
         if np.any(nxt != 0) and nxt.size > 1:
             roots = P.polyroots(nxt)
             real = roots[np.abs(roots.imag) < 1e-9].real
-            candidates.extend(float(r) for r in real if 0.0 < r < 1.0)
-        return float(np.max(np.abs(P.polyval(np.array(candidates), self._derivs[order]))))
+            candidates.extend(float(r) for r in real if 0.0 < r < width)
+        best = max(best, float(np.max(np.abs(P.polyval(np.array(candidates), this)))))
+    return best
 
 
 @dataclass(frozen=True)

@@ -25,6 +25,11 @@ from camfab.motion.polynomial import Condition, SingularConditionsError, solve_p
 
 TWO_PI = 2.0 * math.pi
 
+#: The laws built from a segment's own data (its conditions, points or controls), by name.
+DATA_LAWS = ("polynomial", "table", "spline")
+#: The boundary conditions' keys by derivative order (the design file's ``start`` and ``end``).
+CONDITION_KEYS = {1: "velocity", 2: "acceleration", 3: "jerk", 4: "snap"}
+
 #: Table points must start and end on the segment's boundaries; this slack (in radians of cam
 #: angle and in mm or rad of lift) absorbs the rounding of values typed with a few decimals.
 POINT_SLACK = 1e-6
@@ -67,6 +72,10 @@ class SegmentSpec(Protocol):
     def end(self) -> Any: ...
     @property
     def points(self) -> Sequence[tuple[float, float]] | None: ...
+    @property
+    def order(self) -> int | None: ...
+    @property
+    def controls(self) -> int | Sequence[float] | None: ...
 
 
 @dataclass(frozen=True)
@@ -99,9 +108,14 @@ class ProgramSegment:
         out[0] += self.s0
         return out
 
-    def end_values(self) -> Array:
-        """(2, 4): s and its derivatives at the start (right limit) and the end (left limit)."""
-        return self.evaluate_local(np.array([0.0, self.span])).T
+    def end_values(self, order: int = 3) -> Array:
+        """(2, order + 1): s and its derivatives up to *order* (at most the law's
+        :attr:`~camfab.motion.law.Law.top_order`) at the start (right limit) and the end (left
+        limit)."""
+        f = self.law.derivatives(np.array([0.0, 1.0]), order)
+        out = f * (self.delta / self.span ** np.arange(order + 1))[:, None]
+        out[0] += self.s0
+        return out.T
 
     def peak(self, order: int) -> float:
         """max |s⁽ᵒʳᵈᵉʳ⁾| inside the segment per radianᵒʳᵈᵉʳ (inf: unbounded inside)."""
@@ -326,7 +340,7 @@ class _LawBuilder:
             self.laws[i] = ("dwell", DWELL)
             return True
         name = spec.law or ""
-        if name not in ("polynomial", "table"):
+        if name not in DATA_LAWS:
             try:
                 law = standard_law(name, spec.blend)
             except (KeyError, ValueError) as exc:
@@ -337,8 +351,8 @@ class _LawBuilder:
         end = self._conditions(i, spec.end, at_end=True)
         if start is None or end is None:
             return False  # a neighbour is not built yet
-        self.laws[i] = (name, self._polynomial(i, start, end) if name == "polynomial"
-                        else self._table(i, start, end))
+        build = {"polynomial": self._polynomial, "table": self._table, "spline": self._spline}
+        self.laws[i] = (name, build[name](i, start, end))
         return True
 
     def _conditions(self, i: int, given: Any, at_end: bool) -> list[tuple[int, float]] | None:
@@ -346,16 +360,23 @@ class _LawBuilder:
         if given is None:
             return []
         out = []
+        key = "end" if at_end else "start"
         for order, value in given.items():
             if value == "match":
                 j = (i + 1) % len(self.specs) if at_end else (i - 1) % len(self.specs)
                 if j == i:
-                    raise ProgramError(i, "end" if at_end else "start",
-                                       "'match' needs a neighbouring segment")
+                    raise ProgramError(i, key, "'match' needs a neighbouring segment")
                 if self.laws[j] is None:
                     return None
                 neighbour = self.segment(j)
-                value = neighbour.end_values()[0 if at_end else 1][order]
+                if order > neighbour.law.top_order:
+                    raise ProgramError(
+                        i, f"{key}.{CONDITION_KEYS[order]}",
+                        f"cannot match the {CONDITION_KEYS[order]}: the neighbouring "
+                        f"{neighbour.law_name} law gives derivatives up to the "
+                        f"{CONDITION_KEYS[neighbour.law.top_order]} (a polynomial, "
+                        "polynomial-56789 or spline of order 6 or more gives the snap)")
+                value = neighbour.end_values(order)[0 if at_end else 1][order]
             out.append((order, float(value)))
         return out
 
@@ -419,12 +440,40 @@ class _LawBuilder:
                                "the last point must be at the segment's angle and its end lift")
         ends = {"start": dict(start), "end": dict(end)}
         for key, given in ends.items():
-            if 3 in given:
-                raise ProgramError(i, key,
-                                   "a table takes velocity and acceleration conditions, not jerk")
+            for order in given:
+                if order > 2:
+                    raise ProgramError(i, f"{key}.{CONDITION_KEYS[order]}", "a table takes "
+                                       f"velocity and acceleration conditions, not "
+                                       f"{CONDITION_KEYS[order]}")
         bc = {key: (self._normalised(i, 1, given.get(1, 0.0)),
                     self._normalised(i, 2, given.get(2, 0.0))) for key, given in ends.items()}
         u = [p[0] for p in points]
         f = [p[1] for p in points]
         u[0], f[0], u[-1], f[-1] = 0.0, 0.0, 1.0, 1.0
         return SplineLaw(u, f, bc["start"], bc["end"])
+
+    def _spline(self, i: int, start: list[tuple[int, float]],
+                end: list[tuple[int, float]]) -> Law:
+        """The B-spline law of the segment's order: its end derivatives 1 … k − 2 those given
+        (0 where not), its free control values those given, or *controls* of the smooth rise."""
+        from camfab.motion.bspline import DEFAULT_SPLINE_CONTROLS, DEFAULT_SPLINE_ORDER, BSplineLaw
+
+        spec = self.specs[i]
+        order = spec.order if spec.order is not None else DEFAULT_SPLINE_ORDER
+        ends = {}
+        for key, given in (("start", dict(start)), ("end", dict(end))):
+            for o in given:
+                if o > order - 2:
+                    *head, tail = (CONDITION_KEYS[n] for n in range(1, order - 1))
+                    fixed = f"{', '.join(head)} and {tail}"
+                    raise ProgramError(i, f"{key}.{CONDITION_KEYS[o]}",
+                                       f"a spline of order {order} fixes the {fixed} at its "
+                                       f"ends, not the {CONDITION_KEYS[o]} (a higher order does)")
+            ends[key] = [self._normalised(i, o, given.get(o, 0.0)) for o in range(1, order - 1)]
+        controls = spec.controls if spec.controls is not None else DEFAULT_SPLINE_CONTROLS
+        try:
+            if isinstance(controls, int):
+                return BSplineLaw.smooth(order, controls, ends["start"], ends["end"])
+            return BSplineLaw(order, controls, ends["start"], ends["end"])
+        except ValueError as exc:  # end conditions past floating point
+            raise ProgramError(i, "", str(exc)) from None
