@@ -384,3 +384,28 @@ def test_the_report_says_what_changed(tuned_valve: tuple[Path, Path, str]) -> No
     assert "Every limit, before and after" in report
     for label in ("pressure angle", "contact stress", "jump speed (elastic train)"):
         assert label in report and label in output
+
+
+def test_a_spline_s_control_values_are_tuned_to_their_least_peak(tmp_path: Path) -> None:
+    """A spline's free control values (given as a list) are tuned; its least peak acceleration
+    is a linear programme's, below the smooth rise's of the same order (the 5-6-7-8-9
+    polynomial's); a count of controls is not rewritten, the message says what to write."""
+    text = VALVE.read_text(encoding="utf-8").replace(
+        "  - rise:   {angle: 110, lift: 9, law: polynomial-4567}",
+        "  - rise:   {angle: 110, lift: 9, law: spline, controls: [0.1, 0.4, 0.6, 0.9]}")
+    design = tmp_path / "spline.yaml"
+    design.write_text(text, encoding="utf-8")
+    with cpu_bounded():
+        result = run_cli("tune", str(design), "--objective", "acceleration", "--segment", "0")
+    assert result.exit_code == 0, result.output
+    assert "global optimum" in result.output
+    tuned = load_design(tmp_path / "spline-tuned.yaml")
+    assert len(tuned.motion[0].controls) == 4
+    counted = tmp_path / "counted.yaml"
+    counted.write_text(text.replace("controls: [0.1, 0.4, 0.6, 0.9]", "controls: 4"),
+                       encoding="utf-8")
+    smooth = load_design(counted).program.segments[0].peak(2)
+    assert tuned.program.segments[0].peak(2) < 0.9 * smooth
+    result = run_cli("tune", str(counted), "--objective", "acceleration", "--segment", "0")
+    assert result.exit_code == 2, result.output
+    assert "write them as a list to free them (controls: [" in result.output

@@ -17,6 +17,10 @@ data (``("motion", 0, "rise", "law")``), which is also the path the design file'
 - :class:`Blend` — the ``blend`` of ``modified-uniform-velocity``, in
   [:data:`LEAST_BLEND`, 0.5]. The SCCA laws' shape fractions are no design keys (the
   modified-sine and modified-trapezoid are fixed members of the family): they stay.
+- :class:`SplineControls` — a ``spline`` law's free control values, given as a list
+  (``controls: [0.1, 0.4, 0.6, 0.9]``), each in [0, 1] (normalised lift, as the law takes
+  them); its order and end conditions stay. A count (``controls: 4``, the smooth rise's
+  values) is not rewritten as a list: the message says what to write to free them.
 
 A continuous family's parameters are given to the search normalised to [0, 1] each; the values
 written are rounded (:data:`LIFT_DIGITS`, :data:`BLEND_DIGITS` significant digits), and the
@@ -47,6 +51,8 @@ Written = tuple[Keys, Any]
 LIFT_DIGITS = 10
 #: Significant digits of a blend as written.
 BLEND_DIGITS = 6
+#: Significant digits of a spline's control value as written (normalised lift).
+CONTROL_DIGITS = 10
 #: The least blend the search tries (a share of the segment at each end): the acceleration
 #: grows as 1/blend, and below a few hundredths the blend is all but a velocity step.
 LEAST_BLEND = 0.02
@@ -244,8 +250,45 @@ class PolynomialPoints(ContinuousFamily):
         return [f"motion[{self.index}].{self.kind}.points[{k}][1]" for k in range(self.size)]
 
 
+class SplineControls(ContinuousFamily):
+    """The free control values of a ``spline`` law given as a list, each in [0, 1]."""
+
+    label = "the spline's control values"
+
+    def __init__(self, index: int, kind: str, values: Array) -> None:
+        super().__init__(index, kind)
+        self.values = values
+        self.size = values.size
+
+    @classmethod
+    def of(cls, index: int, kind: str, entry: dict[str, Any], segment: ProgramSegment,
+           design: Design) -> SplineControls | None:
+        controls = design.motion[index].controls
+        if segment.law_name != "spline" or not isinstance(controls, tuple) or not controls:
+            return None
+        return cls(index, kind, np.clip(np.array(controls, dtype=np.float64), 0.0, 1.0))
+
+    def controls(self, x: Array) -> list[float]:
+        return [rounded(float(v), CONTROL_DIGITS) + 0.0 for v in x]
+
+    def start(self) -> Array:
+        return self.values.copy()
+
+    def written(self, x: Array) -> list[Written]:
+        return [(self.keys("controls", k), v) for k, v in enumerate(self.controls(x))]
+
+    def updates(self, x: Array) -> dict[str, Any]:
+        return {"controls": tuple(self.controls(x))}
+
+    def names(self) -> list[str]:
+        return [f"motion[{self.index}].{self.kind}.controls[{k}]" for k in range(self.size)]
+
+
 #: Every family, tried in order on each segment tuned: the first that applies is its.
-FAMILIES: tuple[type[Family], ...] = (Blend, PolynomialPoints, LawChoice)
+FAMILIES: tuple[type[Family], ...] = (Blend, PolynomialPoints, SplineControls, LawChoice)
+#: The families whose every derivative of the motion is affine in their parameters (the peak
+#: acceleration or jerk over them is convex: :mod:`camfab.tune.convex`).
+AFFINE: tuple[type[Family], ...] = (PolynomialPoints, SplineControls)
 
 
 @dataclass(frozen=True)
@@ -283,4 +326,10 @@ def _why_not(segment: ProgramSegment, design: Design) -> str:
                 "inside the segment to free their lifts")
     if segment.law_name == "table":
         return "a table's points are data, not free parameters"
+    if segment.law_name == "spline":
+        free = getattr(segment.law, "free", ())
+        values = ", ".join(f"{v:.4g}" for v in free)
+        return (f"a spline's controls given as a count are the smooth rise's values: write "
+                f"them as a list to free them (controls: [{values}])" if free else
+                "a spline without free control values has nothing free (give controls: [...])")
     return f"the {segment.law_name} law has no free parameters camfab tunes"

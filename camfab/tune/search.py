@@ -17,11 +17,12 @@ from several deterministic starts, every candidate held to the design's limits.
    objective times (1 + its violation, :func:`~camfab.tune.margins.violation`), one the design's
    rules refuse or whose joints are less continuous than the design's scores a wall above
    every other. The starts: the design's own values, then (for the peak acceleration or jerk
-   of polynomial laws, a convex problem) the linear programme's global optimum
+   of polynomial and spline laws, a convex problem; not of a polydyne cam's, whose lift is the
+   train's equation's solution) the linear programme's global optimum
    (:mod:`camfab.tune.convex`), then random points from a generator seeded with :data:`SEED`
-   (sorted along each polynomial's points, which then rise in order), up to ``--starts``.
-   Where the linear programme's optimum meets every limit it is the global optimum of the
-   tuned polynomials, and no other start is tried.
+   (sorted along each polynomial's points and spline's control values, which then rise in
+   order), up to ``--starts``. Where the linear programme's optimum meets every limit it is
+   the global optimum of the tuned laws, and no other start is tried.
 
 Each start is first optimised on the objective alone (no candidate analysed: the program's
 objectives take milliseconds, an analysis a tenth of a second), and its answer analysed: most
@@ -43,7 +44,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from camfab.arrays import Array
-from camfab.tune.families import ContinuousFamily, PolynomialPoints
+from camfab.tune.families import AFFINE, ContinuousFamily, PolynomialPoints, SplineControls
 from camfab.tune.objectives import Peak
 from camfab.tune.trials import Assignment, Evaluator, Trial, normalised
 
@@ -203,8 +204,9 @@ class Search:
             return self.score(self.evaluator.trial(assign(x)), penalised)
 
         starts = [np.concatenate([np.asarray(base[pos], dtype=np.float64) for pos in positions])]
-        if isinstance(self.evaluator.objective, Peak) and all(
-                isinstance(f, PolynomialPoints) for f in parts):
+        if (isinstance(self.evaluator.objective, Peak) and all(isinstance(f, AFFINE)
+                                                               for f in parts)
+                and self.evaluator.design.motion_target == "cam"):
             x = self._convex(base, positions, assign)
             if x is not None:
                 trial = self.evaluator.trial(assign(x))
@@ -246,10 +248,10 @@ class Search:
 
     def _convex(self, base: list, positions: list[int],
                 assign: Callable[[Array], Assignment]) -> Array | None:
-        """The shares of the least peak of the tuned polynomials (:mod:`camfab.tune.convex`),
+        """The parameters of the least peak of the tuned laws (:mod:`camfab.tune.convex`),
         or None where the programme cannot be set up or solved (:attr:`convex_note` says
         why)."""
-        from camfab.tune.convex import derivative_coefficients, least_peak
+        from camfab.tune.convex import derivative_pieces, least_peak
 
         ev = self.evaluator
         objective = ev.objective
@@ -258,21 +260,23 @@ class Search:
         n = sum(ev.families[pos].size for pos in positions)  # type: ignore[attr-defined]
 
         def coefficients(x: Array) -> Array:
-            return derivative_coefficients(ev.design_of(assign(x)), indices, objective.order)
+            return derivative_pieces(ev.design_of(assign(x)), indices, objective.order)[0]
 
         try:
             middle = coefficients(np.full(n, 0.5))
+            lengths = derivative_pieces(ev.design_of(assign(np.full(n, 0.5))), indices,
+                                        objective.order)[1]
             columns = [(coefficients(0.5 + 0.25 * np.eye(n)[i]) - middle) / 0.25
                        for i in range(n)]
         except Exception as exc:  # a point the rules refuse at these shares: no programme
             self.convex_note = f"the linear programme could not be set up: {exc}"
             return None
         basis = np.stack(columns, axis=-1)
-        answer = least_peak(middle - basis @ np.full(n, 0.5), basis)
+        answer = least_peak(middle - basis @ np.full(n, 0.5), basis, lengths)
         if not answer.solved:
             self.convex_note = f"the linear programme was not solved: {answer.message}"
             return None
-        self.convex_note = (f"the tuned polynomials' least peak {objective.name} is "
+        self.convex_note = (f"the tuned laws' least peak {objective.name} is "
                             f"{answer.t:.10g} {objective.unit} (a linear programme solved by "
                             f"HiGHS, {answer.rounds} round(s) of its exchange)")
         return answer.x
@@ -291,10 +295,10 @@ def _simplex(x: Array) -> Array:
 
 
 def _sample(family: ContinuousFamily, rng: np.random.Generator) -> Array:
-    """A random start for *family*'s parameters in [0, 1]: a polynomial's points' shares
-    sorted, so that they rise in order."""
+    """A random start for *family*'s parameters in [0, 1]: a polynomial's points' shares and
+    a spline's control values sorted, so that they rise in order."""
     x = rng.random(family.size)
-    return np.sort(x) if isinstance(family, PolynomialPoints) else x
+    return np.sort(x) if isinstance(family, (PolynomialPoints, SplineControls)) else x
 
 
 @dataclass

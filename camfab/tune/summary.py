@@ -100,7 +100,7 @@ def summary_lines(tuning: Plan, search: Search, stopped: bool,
         if not values:
             lines.append("  the design's own laws are the best found: nothing changed")
         if search.global_optimum:
-            lines.append(f"  the polynomials are at their global optimum: {search.convex_note}")
+            lines.append(f"  the tuned laws are at their global optimum: {search.convex_note}")
     for u in tuning.untuned:
         lines.append(f"  motion[{u.index}] not tuned: {u.why}")
     before = search.before.margins if search.before is not None else []

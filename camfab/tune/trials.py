@@ -88,7 +88,8 @@ def with_motion(design: Design, motion: Sequence[Any]) -> Design:
     """*design* with the segments *motion* (design models, internal units), its program built
     afresh when asked for."""
     copy = design.model_copy(update={"motion": tuple(motion)})
-    copy.__dict__.pop("program", None)  # the copy's cached program is the original's
+    for cached in ("program", "output_program"):  # the copy's are the original's
+        copy.__dict__.pop(cached, None)
     return copy
 
 
