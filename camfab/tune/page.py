@@ -136,7 +136,7 @@ def speed_figure(tuning: Plan, after: Design | None,
     [ax] = fig.subplots()
     unit = objective.unit
     for design, data, color, style, label in (
-            (tuning.design, tuning.data, REFERENCE, "--", "before"),
+            (tuning.design, tuning.doc.data, REFERENCE, "--", "before"),
             (after, after_data, PITCH, "-", "after")):
         if design is None or data is None:
             continue

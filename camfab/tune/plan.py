@@ -21,12 +21,13 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from camfab.arrays import Array
-from camfab.errors import CamfabError
+from camfab.errors import CommandError
 from camfab.tune.families import Family, Untuned, Written
 from camfab.tune.objectives import NAMES, Objective
 
 if TYPE_CHECKING:
     from camfab.design import Design
+    from camfab.design.source import SourceDocument
     from camfab.tune.trials import Evaluator
 
 #: The default band of the residual objective: the design speed ± this share ...
@@ -39,13 +40,11 @@ MOST_SPEEDS = 101
 MOST_STARTS = 64
 
 
-class TuneError(CamfabError, ValueError):
+class TuneError(CommandError):
     """A tuning's options refused: one line naming the option and the problem (exit 2), after
     ``camfab tune:``."""
 
-    def __init__(self, message: str) -> None:
-        shown = "".join(c if c.isprintable() else repr(c)[1:-1] for c in message)
-        super().__init__(f"camfab tune: {shown}")
+    command = "tune"
 
 
 @dataclass(frozen=True)
@@ -63,12 +62,13 @@ class TuneOptions:
 
 @dataclass
 class Plan:
-    """A checked tuning: the design's text, data and model, the families, the segments with
-    nothing free, the objective, the evaluator and the files to write."""
+    """A checked tuning: the design's text, its data (as read, with each key's line) and
+    model, the families, the segments with nothing free, the objective and its band of speeds,
+    the evaluator, the families' own values and the files to write."""
 
     options: TuneOptions
     text: str
-    data: dict[str, Any]
+    doc: SourceDocument
     design: Design
     families: list[Family]
     untuned: list[Untuned]
@@ -119,7 +119,7 @@ def plan(options: TuneOptions) -> Plan:
     text = read_design_text(options.design)
     _check_editable(text, evaluator.written(start))
     tuned_path, report_path = _paths(options)
-    return Plan(options, text, data, design, families, untuned, objective, band, evaluator,
+    return Plan(options, text, doc, design, families, untuned, objective, band, evaluator,
                 start, tuned_path, report_path)
 
 
@@ -253,21 +253,11 @@ def changed(tuning: Plan, written: Sequence[Written]) -> list[tuple[str, Any, An
     own = dict(tuning.evaluator.written(tuning.start))
     out = []
     for keys, value in written:
-        old = _value_at(tuning.data, keys)
+        old = tuning.doc.value_at(keys)
         if same_value(old, value) or (old is None and own.get(keys) == value):
             continue
         out.append((dotted(keys), old, value))
     return out
-
-
-def _value_at(data: Any, keys: Sequence[str | int]) -> Any:
-    node = data
-    for key in keys:
-        try:
-            node = node[key]
-        except (KeyError, IndexError, TypeError):
-            return None
-    return node
 
 
 def same_value(old: Any, new: Any) -> bool:
