@@ -77,7 +77,9 @@ def render_report(tuning: Plan, search: Search, stopped: bool) -> bytes:
         measured=search.evaluator.measured,
         analysed=search.evaluator.analysed,
         motion=markup(motion_figure(tuning.design, after)),
-        speed=markup(speed_figure(tuning, after, None if best is None else best.data) or ""),
+        # a stopped search writes at once: no analyses for the curve of the stress or torque
+        speed=markup("" if stopped and tuning.objective.needs_analysis else
+                     speed_figure(tuning, after, None if best is None else best.data) or ""),
     )
     return text.encode("utf-8")
 
