@@ -145,9 +145,9 @@ def analyse(design: Design, advice: bool = True) -> Analysis:
     the cam at its speed (the elastic follower train, the contact stress, the roller's life);
     with *advice*, each failed check a sizing answers told the size that passes (a search of
     some hundredths of a second)."""
-    from camfab.analysis.at_speed import at_speed, force_note
     from camfab.analysis.cam_checks import bore_finding
     from camfab.kinds import kind_of
+    from camfab.speed.model import at_speed, force_note
 
     kind = kind_of(design.cam.type)
     program = design.program
@@ -364,7 +364,7 @@ def build(path: str | Path, out_dir: Path | None = None,
 
 #: The packages a build runs through, every layer under this module's.
 BUILD_PACKAGES = ("camfab.motion", "camfab.curves", "camfab.design", "camfab.geometry",
-                  "camfab.analysis", "camfab.export", "camfab.kinds")
+                  "camfab.analysis", "camfab.speed", "camfab.export", "camfab.kinds")
 
 
 def import_build_modules() -> None:

@@ -17,9 +17,9 @@ import numpy as np
 import pytest
 import yaml
 
-from camfab.analysis.contact import Contact, ContactSide, roller_life
 from camfab.design.loader import unsized_design
 from camfab.pipeline import analyse, design_from_text, load_design, render, size_design
+from camfab.speed.contact import Contact, ContactSide, roller_life
 
 from .conftest import DESIGNS, run_cli
 

@@ -12,10 +12,10 @@ import numpy as np
 import pytest
 import yaml
 
-from camfab.analysis.hertz import effective_modulus
 from camfab.geometry.drum import polar_to_xy
 from camfab.geometry.globoid import to_cam
 from camfab.pipeline import analyse, design_from_mapping, load_design
+from camfab.speed.hertz import effective_modulus
 
 from .conftest import DESIGNS
 

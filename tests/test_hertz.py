@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from scipy import optimize, special
 
-from camfab.analysis.hertz import (
+from camfab.speed.hertz import (
     effective_modulus,
     elliptic_integrals,
     line_contact,

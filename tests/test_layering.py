@@ -17,6 +17,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("camfab.design",),
     ("camfab.geometry",),
     ("camfab.analysis",),
+    ("camfab.speed",),
     ("camfab.export",),
     ("camfab.machining",),
     ("camfab.kinds",),

@@ -67,27 +67,27 @@ def test_the_mass_follows_the_program_at_the_design_speed(zeta: float) -> None:
 
 
 def test_camfab_reports_no_vibration_at_the_design_speed_and_the_integrations_off_it() -> None:
-    """At the design speed the dwells are still; at ±20 % the vibration camfab reports in each
-    dwell is what the integration of the same cam at that speed gives."""
+    """At the design speed the dwells are still; at ±20 % the vibration camfab reports for the
+    polydyne cam (the largest swing of the mass over a dwell) is what the integration of the
+    same cam at that speed gives."""
     design = _design()
-    shaken = analyse(design).at_speed.vibration  # type: ignore[union-attr]
-    assert shaken.residual_m < 1e-9
+    speed = analyse(design).at_speed  # type: ignore[union-attr]
+    assert speed.vibration.residual_m < 1e-9
+    band = speed.band
+    assert band.polydyne_m[list(band.speeds_rpm).index(1500.0)] < 1e-9
+    assert band.low_rpm < 1500.0 < band.high_rpm
+    dwells = [seg for seg in design.program.segments if seg.kind == "dwell"]  # type: ignore
+    at = np.concatenate([np.linspace(seg.start, seg.end, 2001) for seg in dwells])  # 0.01°
     for factor in (0.8, 1.2):
-        text = VALVE.format(rpm=1500 * factor, zeta=0.06, law="polynomial-56789", cs=3.0)
-        off = design_from_text(text.replace("motion_target: output\n", ""))
-        # the same cam at another speed: the polydyne cam's lift as a table of its own
-        ode = Ode.of(off)
-        ode = Ode(design, ode.m, ode.kf, ode.ks, ode.c, ode.cs, ode.load, ode.omega, ode.scale)
-        theta = np.linspace(0.0, 2 * math.pi, 1441)[:-1]
-        states = ode.periodic(theta)
-        from camfab.design.train import train_of
-        from camfab.speed.vibration import dwell_vibration
-
-        found = dwell_vibration(train_of(off, True), design.program,  # type: ignore
-                                ode.omega, ode.scale)
-        for segment, ptp in found:
-            inside = (theta >= segment.start) & (theta <= segment.end)
-            assert ptp == pytest.approx(np.ptp(states[0][inside]), rel=2e-3, abs=1e-9)
+        k = int(np.argmin(np.abs(band.speeds_rpm - 1500 * factor)))
+        ode = Ode.of(design)
+        ode = Ode(design, ode.m, ode.kf, ode.ks, ode.c, ode.cs, ode.load,
+                  band.speeds_rpm[k] * math.pi / 30, ode.scale)
+        mass = ode.periodic(at)[0].reshape(len(dwells), -1)
+        # camfab's grid is 0.05° apart, the integration's samples 0.01°: a swing's extremes
+        # between points differ by some (0.05°)² of its curvature
+        assert band.polydyne_m[k] == pytest.approx(np.ptp(mass, axis=1).max(), rel=1e-5)
+        assert band.polydyne_m[k] > 1e-6  # off its speed, it rings
 
 
 def test_a_law_without_four_continuous_derivatives_is_refused_where_it_is_named() -> None:

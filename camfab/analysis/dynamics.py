@@ -28,10 +28,8 @@ import numpy as np
 from camfab.analysis.findings import Finding
 from camfab.arrays import Array
 from camfab.design import Design
+from camfab.design.train import G
 from camfab.motion.program import MotionProgram
-
-#: Standard gravity (m/s²).
-G = 9.80665
 
 #: Cam-angle step of the dense evaluation (as for the geometry).
 STEP = math.radians(0.05)

@@ -1,5 +1,9 @@
 """The record of one design's analysis: everything computed about it before any file is made,
-which the kinds fill in, the writers serialise and the pipeline carries to the files."""
+which the kinds fill in, the writers serialise and the pipeline carries to the files.
+
+The cam at its speed (:mod:`camfab.speed`) lies in the layer above: the record carries its
+result and the kind's contact without knowing their types, and the layers that read them
+(the writers, the kinds) import those from :mod:`camfab.speed`."""
 
 from __future__ import annotations
 
@@ -12,8 +16,6 @@ from camfab.design import Design
 from camfab.motion.program import MotionProgram
 
 if TYPE_CHECKING:
-    from camfab.analysis.at_speed import AtSpeed
-    from camfab.analysis.contact import Contact
     from camfab.analysis.dynamics import Dynamics
     from camfab.analysis.setup_sheet import Setup
     from camfab.analysis.verification import Verification
@@ -56,10 +58,10 @@ class CamResult:
         """Why there are no dynamics, where the kind has its own reason."""
         return None
 
-    def contact(self, analysis: Analysis) -> Contact | None:
-        """How the follower touches the cam over the analysis grid
-        (:class:`~camfab.analysis.contact.Contact`), for the contact stress and the roller's
-        life; None for a kind whose contact is not modelled."""
+    def contact(self, analysis: Analysis) -> Any:
+        """How the follower touches the cam over the analysis grid (a
+        :class:`camfab.speed.contact.Contact`), for the contact stress and the roller's life;
+        None for a kind whose contact is not modelled."""
         return None
 
     def sampled_lift(self) -> LiftCheck | None:
@@ -123,8 +125,9 @@ class Analysis:
     verification: Verification | None = None
     dynamics: Dynamics | None = None
     #: The cam at its speed: the elastic follower train, the contact stress and the roller's
-    #: life (:mod:`camfab.analysis.at_speed`).
-    at_speed: AtSpeed | None = None
+    #: life (a :class:`camfab.speed.model.AtSpeed`; None until :func:`camfab.speed.model.at_speed`
+    #: has run).
+    at_speed: Any = None
     #: The setup sheets of the machining programs written (:mod:`camfab.machining`), one per
     #: program file; empty when no program was asked for.
     machining: tuple[Setup, ...] = ()

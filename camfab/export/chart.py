@@ -340,10 +340,10 @@ class Axes:
                         np.array([float(x0), float(x1)])))
 
     def axvline(self, x: float, *, color: str, linewidth: float = 1.0,
-                linestyle: str = "-") -> None:
+                linestyle: str = "-", label: str | None = None) -> None:
         """A vertical line across the panel at *x*."""
-        self._add(_Item("vline", 2.0, Style(color, linewidth, linestyle),
-                                x=np.array([float(x)])))
+        self._add(_Item("vline", 2.0, Style(color, linewidth, linestyle), label,
+                        x=np.array([float(x)])))
 
     def text(self, x: float, y: float, text: str, *, fontsize: float = 10.0,
              color: str = "#000000", ha: str = "center", va: str = "center",

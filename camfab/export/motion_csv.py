@@ -55,7 +55,7 @@ def at_speed_columns(analysis: Analysis, theta: np.ndarray) -> list[tuple[str, n
     """The cam at its speed at the cam angles *theta* (rad), where computed: the contact
     stress (MPa), and with an elastic follower train its displacement (mm, or deg of an
     arm's swing) and its contact force along its motion (N)."""
-    from camfab.analysis.at_speed import sample_at
+    from camfab.speed.model import sample_at
 
     speed = analysis.at_speed
     if speed is None:

@@ -242,7 +242,27 @@ def _vibration_section(analysis: Analysis, dynamics: dict[str, Any]) -> dict[str
               for d in dynamics["residual_vibration_by_dwell"]]
     changes = [(num(c["cam_angle_deg"]), c["onto"]) for c in dynamics.get("flank_changes", [])]
     return {"rows": rows, "dwells": dwells, "changes": changes, "notes": [],
-            "figure": vibration_figure(analysis), "spectrum": spectrum_figure(analysis)}
+            "figure": vibration_figure(analysis), "spectrum": spectrum_figure(analysis),
+            "polydyne": _polydyne_section(analysis, dynamics.get("polydyne"))}
+
+
+def _polydyne_section(analysis: Analysis, polydyne: dict[str, Any] | None,
+                      ) -> dict[str, Any] | None:
+    """A polydyne cam's part of the follower-train section: its key numbers and its two
+    figures (the motions side by side, the vibration against speed); None for another cam."""
+    from camfab.export.speed_figures import band_figure, polydyne_figure
+
+    if polydyne is None:
+        return None
+    rows = [("cut for (rpm)", num(polydyne["speed_rpm"])),
+            ("largest difference of the cam's lift from the motion asked, |s − x| (mm)",
+             num(polydyne["cam_minus_output_max_mm"])),
+            ("residual vibration at that speed (mm)", num(polydyne["residual_vibration_mm"])),
+            ("the motion list cut directly as the cam, there (mm)",
+             num(polydyne["direct_residual_vibration_mm"])),
+            ("speeds about it where the polydyne cam rings less (rpm)",
+             f"{num(polydyne['better_from_rpm'])} to {num(polydyne['better_to_rpm'])}")]
+    return {"rows": rows, "figure": polydyne_figure(analysis), "band": band_figure(analysis)}
 
 
 def _total_zeta(analysis: Analysis) -> float | None:

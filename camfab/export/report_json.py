@@ -201,6 +201,8 @@ def at_speed_dict(analysis: Analysis) -> dict[str, Any]:
             "static_deflection_max_mm": 1000.0 * shaken.max_static_m,
             "dynamic_vibration_max_mm": 1000.0 * shaken.max_ringing_m,
         })
+        if speed is not None and speed.band is not None:
+            out["polydyne"] = polydyne_dict(analysis)
         if not shaken.one_sided:
             out["flank_changes"] = [{"cam_angle_deg": deg, "onto": "pushing" if onto > 0
                                      else "pulling back"} for deg, onto in shaken.flank_changes]
@@ -219,6 +221,32 @@ def at_speed_dict(analysis: Analysis) -> dict[str, Any]:
     else:
         out["roller_life_note"] = None if speed is None else speed.life_note
     return out
+
+
+def polydyne_dict(analysis: Analysis) -> dict[str, Any]:
+    """A polydyne cam's motions and its vibration against speed (mm at the trace point, rpm):
+    how far the cam's lift departs from the motion asked of the mass, the largest dwell
+    vibration at each speed of the band of the polydyne cam and of the motion list cut directly
+    as the cam (null where the train resonates), and the speeds about the design speed over
+    which the polydyne cam rings less."""
+    speed = analysis.at_speed
+    assert speed is not None and speed.band is not None and speed.vibration is not None
+    band, shaken = speed.band, speed.vibration
+    theta = shaken.theta
+    apart = (analysis.program.evaluate(theta)[0]
+             - analysis.design.output_program.evaluate(theta)[0]) * shaken.trace_m
+    at = int(np.argmin(np.abs(band.speeds_rpm - shaken.speed_rpm)))
+    return {
+        "speed_rpm": shaken.speed_rpm,
+        "cam_minus_output_max_mm": 1000.0 * float(np.max(np.abs(apart))),
+        "residual_vibration_mm": 1000.0 * float(band.polydyne_m[at]),
+        "direct_residual_vibration_mm": 1000.0 * float(band.direct_m[at]),
+        "better_from_rpm": band.low_rpm,
+        "better_to_rpm": band.high_rpm,
+        "band": {"speeds_rpm": band.speeds_rpm.tolist(),
+                 "polydyne_residual_mm": (1000.0 * band.polydyne_m).tolist(),
+                 "direct_residual_mm": (1000.0 * band.direct_m).tolist()},
+    }
 
 
 def _verification(analysis: Analysis) -> dict[str, Any]:

@@ -32,8 +32,8 @@ from camfab.export.figures import (
 )
 
 if TYPE_CHECKING:
-    from camfab.analysis.at_speed import AtSpeed
     from camfab.analysis.record import Analysis
+    from camfab.speed.model import AtSpeed
 
 
 def stress_figure(analysis: Analysis) -> str | None:
@@ -109,6 +109,68 @@ def vibration_figure(analysis: Analysis) -> str | None:
     error_ax.set_ylabel("dynamic\nerror (mm)", fontsize=LEGEND_FONT)
     force_ax.set_ylabel("contact\nforce (N)", fontsize=LEGEND_FONT)
     return _finish(fig, [lift_ax, error_ax, force_ax], analysis)
+
+
+#: The band's figure is scaled to the vibration within this share of the design speed.
+BAND_SHOWN = 0.1
+
+
+def polydyne_figure(analysis: Analysis) -> str | None:
+    """A polydyne cam's two motions over the cycle: the motion asked of the follower's mass and
+    the cam's lift that gives it at the design speed, and their difference; None for another
+    cam."""
+    speed = analysis.at_speed
+    if speed is None or speed.band is None or speed.vibration is None:
+        return None
+    shaken = speed.vibration
+    fig, (lift_ax, apart_ax) = panel_stack(2, "polydyne")
+    scale = shaken.trace_m * 1000.0  # mm at the trace point
+    cam = analysis.program.evaluate(shaken.theta)[0] * scale
+    output = analysis.design.output_program.evaluate(shaken.theta)[0] * scale
+    theta, cam, output = thin(np.degrees(shaken.theta), cam, output)
+    lift_ax.plot(theta, output, color=REFERENCE, linewidth=1.0, label="asked of the mass, x")
+    lift_ax.plot(theta, cam, color=PITCH, linewidth=1.0, label="the cam's lift, s")
+    apart_ax.plot(theta, cam - output, color=PITCH, linewidth=1.0, label="s − x")
+    apart_ax.axhline(0.0, color=REFERENCE, linewidth=0.5)
+    where = "at the trace point" if analysis.design.follower.oscillating else ""
+    lift_ax.set_ylabel(f"lift (mm)\n{where}".strip(), fontsize=LEGEND_FONT)
+    apart_ax.set_ylabel("s − x (mm)", fontsize=LEGEND_FONT)
+    return _finish(fig, [lift_ax, apart_ax], analysis)
+
+
+def band_figure(analysis: Analysis) -> str | None:
+    """A polydyne cam's largest dwell vibration against speed beside its motion list cut
+    directly, the design speed and the band over which the polydyne cam rings less marked;
+    None for another cam."""
+    speed = analysis.at_speed
+    band = None if speed is None else speed.band
+    if band is None:
+        return None
+    height = 2.6
+    left, right = side_margins()
+    fig = Figure(FIGURE_WIDTH, height, "band", left=left, right=right,
+                 top=1 - 0.3 / height, bottom=0.55 / height)
+    [ax] = fig.subplots()
+    ax.axvspan(band.low_rpm, band.high_rpm, color=WARN, alpha=0.15,
+               label="the polydyne cam rings less")
+    ax.plot(band.speeds_rpm, band.direct_m * 1000.0, color=REFERENCE, linewidth=1.0,
+            label="the motion cut directly")
+    ax.plot(band.speeds_rpm, band.polydyne_m * 1000.0, color=PITCH, linewidth=1.2,
+            label="the polydyne cam")
+    design = analysis.design.cam.speed_rpm
+    assert design is not None
+    ax.axvline(design, color=BAD, linewidth=0.8, linestyle="--",
+               label=f"cut for {design:.6g} rpm")
+    ax.set_xlim(float(band.speeds_rpm[0]), float(band.speeds_rpm[-1]))
+    # the scale of the speeds about the design speed: far from it both cams ring far more
+    near = np.abs(band.speeds_rpm / design - 1.0) <= BAND_SHOWN
+    top = float(np.nanmax(np.concatenate([band.direct_m[near], band.polydyne_m[near]])))
+    if top > 0.0:
+        ax.set_ylim(0.0, 1.25 * 1000.0 * top)
+    ax.set_ylabel("residual\nvibration (mm)", fontsize=LEGEND_FONT)
+    ax.set_xlabel("cam speed (rpm)")
+    ax.legend(fontsize=LEGEND_FONT, outside_right=True)
+    return fig.svg()
 
 
 def spectrum_figure(analysis: Analysis) -> str | None:

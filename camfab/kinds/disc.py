@@ -13,7 +13,6 @@ from camfab.analysis.record import TABLE_COLUMNS, Analysis, CamResult, terse
 
 if TYPE_CHECKING:
     from camfab.analysis.cam_checks import CamNumbers
-    from camfab.analysis.contact import Contact, ContactSide
     from camfab.analysis.findings import Finding
     from camfab.analysis.kinematics import MotionUnits, SegmentStats
     from camfab.analysis.sizing import Grid, SizeProblem
@@ -30,6 +29,7 @@ if TYPE_CHECKING:
     from camfab.geometry.plate import Contours, Plate
     from camfab.kinds.scene3d import Scene3D
     from camfab.motion.program import MotionProgram
+    from camfab.speed.contact import Contact, ContactSide
 
 
 @dataclass(frozen=True)
@@ -136,7 +136,7 @@ def plate_side(cam: DiscCam, working: CurvePoints, pressure_angle: Array,
     (mm: the moment about the pivot) — and a roller's rolling speed over it (mm/rad)."""
     import numpy as np
 
-    from camfab.analysis.contact import ContactSide
+    from camfab.speed.contact import ContactSide
 
     fol = cam.follower
     if fol.flat and fol.oscillating:
@@ -158,7 +158,7 @@ def plate_contact(design: Design, geom: DiscGeometry,
     """How the follower of a plate cam touches it over the analysis grid: the profile (or
     *sides*), a roller's or a flat face's line over the plate's thickness (a groove's depth), a
     mushroom's point, a knife's none."""
-    from camfab.analysis.contact import KNIFE_NOTE, Contact, contact_length
+    from camfab.speed.contact import KNIFE_NOTE, Contact, contact_length
 
     fol, dense = design.follower, geom.dense
     theta = dense.theta
@@ -331,8 +331,8 @@ class Disc:
     @staticmethod
     def size_problem(design: Design, follower: FollowerGeometry,
                      grid_pair: tuple[Grid, Grid]) -> SizeProblem:
-        """The sizing of the base radius (:mod:`camfab.analysis.plate_sizing`)."""
-        from camfab.analysis.plate_sizing import plate_problem
+        """The sizing of the base radius (:mod:`camfab.kinds.plate_sizing`)."""
+        from camfab.kinds.plate_sizing import plate_problem
 
         return plate_problem(design, follower, grid_pair)
 

@@ -16,7 +16,6 @@ from camfab.analysis.record import TABLE_COLUMNS, Analysis, CamResult, terse
 from camfab.analysis.verification import Verification
 
 if TYPE_CHECKING:
-    from camfab.analysis.contact import Contact
     from camfab.analysis.drum_checks import DrumNumbers
     from camfab.analysis.findings import Finding
     from camfab.analysis.kinematics import MotionUnits, SegmentStats
@@ -31,6 +30,7 @@ if TYPE_CHECKING:
     from camfab.geometry.drum import DrumDense
     from camfab.kinds.scene3d import Scene3D
     from camfab.motion.program import MotionProgram
+    from camfab.speed.contact import Contact
 
 #: Cam-angle step at which the roller is run through a drum's groove read back from the STL.
 DRUM_VERIFY_STEP = math.radians(0.5)
@@ -107,7 +107,7 @@ class DrumResult(CamResult):
         the normal force is the force along the motion over the mean of cos φ along the line
         (:func:`mean_cosine`, exact), and the roller rolls along the groove at its pitch
         radius."""
-        from camfab.analysis.contact import Contact, ContactSide, contact_length
+        from camfab.speed.contact import Contact, ContactSide, contact_length
 
         dense, design = self.drum, analysis.design
         d = dense.drum
@@ -285,8 +285,8 @@ class Drum:
     @staticmethod
     def size_problem(design: Design, follower: FollowerGeometry,
                      grid_pair: tuple[Grid, Grid]) -> SizeProblem:
-        """The sizing of the drum's radius (:func:`camfab.analysis.drum_checks.drum_problem`)."""
-        from camfab.analysis.drum_checks import drum_problem
+        """The sizing of the drum's radius (:func:`camfab.kinds.drum_sizing.drum_problem`)."""
+        from camfab.kinds.drum_sizing import drum_problem
 
         return drum_problem(design, grid_pair)
 

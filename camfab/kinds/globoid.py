@@ -21,7 +21,6 @@ from camfab.analysis.record import TABLE_COLUMNS, Analysis, CamResult, terse
 from camfab.analysis.verification import Verification
 
 if TYPE_CHECKING:
-    from camfab.analysis.contact import Contact
     from camfab.analysis.findings import Finding
     from camfab.analysis.globoid_checks import GloboidDense, GloboidNumbers
     from camfab.analysis.kinematics import MotionUnits, SegmentStats
@@ -34,6 +33,7 @@ if TYPE_CHECKING:
     from camfab.geometry.globoid_cam import GloboidCam
     from camfab.kinds.scene3d import Scene3D, Shape
     from camfab.motion.program import MotionProgram
+    from camfab.speed.contact import Contact
 
 
 #: The share of the sampling tolerance within which the boolean of the blank and the groove's
@@ -88,7 +88,7 @@ class GloboidResult(CamResult):
         the flanks are surfaces, not curves of the cam (their limit is this one, the undercut
         check's); the pitch radius column SPEC §5 gives every table stays, empty, and the
         report's readout leaves it out."""
-        from camfab.analysis.at_speed import sample_at
+        from camfab.speed.model import sample_at
 
         dense = self.globoid
         g = dense.blank.follower
@@ -111,9 +111,9 @@ class GloboidResult(CamResult):
         normal force balances the arm's moment, F·L = F_n·mean(ℓ cos α) with the load spread
         evenly along the line (:func:`mean_lever`, converged); the roller rolls over the
         groove as its middle moves against the cam."""
-        from camfab.analysis.contact import Contact, ContactSide
         from camfab.analysis.globoid_checks import UNDERCUT_STEP
         from camfab.geometry.globoid import flank_coefficients, flank_curvature
+        from camfab.speed.contact import Contact, ContactSide
 
         dense, design, program = self.globoid, analysis.design, analysis.program
         g = dense.blank.follower

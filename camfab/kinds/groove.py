@@ -27,7 +27,6 @@ from camfab.analysis.verification import Verification
 from camfab.kinds.disc import PlateResult, analyse_plate
 
 if TYPE_CHECKING:
-    from camfab.analysis.contact import Contact
     from camfab.analysis.findings import Finding
     from camfab.analysis.kinematics import MotionUnits, SegmentStats
     from camfab.analysis.record import Analysis
@@ -42,6 +41,7 @@ if TYPE_CHECKING:
     from camfab.geometry.plate import Contours
     from camfab.kinds.scene3d import Scene3D
     from camfab.motion.program import MotionProgram
+    from camfab.speed.contact import Contact
 
 
 #: A wall-change tick runs this many groove half widths either side of the pitch curve: across
@@ -414,7 +414,7 @@ class Groove:
                      grid_pair: tuple[Grid, Grid]) -> SizeProblem:
         """The sizing of the base radius: the inner wall's (the roller plus half the
         clearance), both walls offsets of the pitch curve."""
-        from camfab.analysis.plate_sizing import plate_problem
+        from camfab.kinds.plate_sizing import plate_problem
 
         return plate_problem(design, follower, grid_pair, design.follower.groove_clearance / 2,
                              groove=True)

@@ -23,7 +23,6 @@ from camfab.kinds.disc import no_checks
 from camfab.kinds.readback import BEAM_DEPARTS, against_cut, beam_cut, read_part
 
 if TYPE_CHECKING:
-    from camfab.analysis.contact import Contact
     from camfab.analysis.findings import Finding
     from camfab.analysis.kinematics import MotionUnits, SegmentStats
     from camfab.analysis.linear_checks import LinearNumbers
@@ -36,6 +35,7 @@ if TYPE_CHECKING:
     from camfab.geometry.linear import LinearGeometry
     from camfab.kinds.scene3d import Scene3D
     from camfab.motion.program import MotionProgram
+    from camfab.speed.contact import Contact
 
 
 def linear_contours(analysis: Analysis) -> tuple[Profile, Profile, Profile | None]:
@@ -217,7 +217,7 @@ class LinearResult(CamResult):
     def contact(self, analysis: Analysis) -> Contact:
         """The plate's edge under the follower: a roller's line over the plate's thickness, a
         knife's none."""
-        from camfab.analysis.contact import KNIFE_NOTE, Contact, ContactSide, contact_length
+        from camfab.speed.contact import KNIFE_NOTE, Contact, ContactSide, contact_length
 
         design, dense = analysis.design, self.linear.dense
         if design.follower.type == "knife":

@@ -33,7 +33,6 @@ from camfab.kinds.readback import BEAM_DEPARTS, against_cut, beam_cut, read_back
 from camfab.motion.program import cycle_angles
 
 if TYPE_CHECKING:
-    from camfab.analysis.contact import Contact
     from camfab.analysis.findings import Finding
     from camfab.analysis.kinematics import MotionUnits, SegmentStats
     from camfab.analysis.partner_checks import Partner
@@ -46,6 +45,7 @@ if TYPE_CHECKING:
     from camfab.export.serialise import PartFiles
     from camfab.kinds.scene3d import Scene3D
     from camfab.motion.program import MotionProgram
+    from camfab.speed.contact import Contact
 
 
 def pair_part(analysis: Analysis) -> Part:
@@ -444,7 +444,7 @@ class Conjugate:
     def size_problem(design: Design, follower: FollowerGeometry,
                      grid_pair: tuple[Grid, Grid]) -> SizeProblem:
         """The sizing of cam a's base radius, cam b's limits with it."""
-        from camfab.analysis.plate_sizing import plate_problem
+        from camfab.kinds.plate_sizing import plate_problem
 
         return plate_problem(design, follower, grid_pair, partner=True)
 

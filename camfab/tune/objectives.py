@@ -3,8 +3,9 @@
 - ``residual`` — the largest residual vibration over the speeds of a band (mm, peak to peak at
   the trace point): at each speed, the largest peak-to-peak swing of the elastic follower
   train's dynamic error over a dwell, as the at-speed analysis reports it at the design speed
-  (:attr:`camfab.analysis.vibration.Vibration.residual_m`). It is computed straight from the
-  train's exact periodic response (:func:`camfab.analysis.elastic.periodic_response`, every
+  (:attr:`camfab.speed.vibration.Vibration.residual_m`: the mass's swing over the dwell,
+  :func:`~camfab.speed.vibration.dwell_swings`). It is computed straight from the
+  train's exact periodic response (:func:`camfab.speed.elastic.periodic_error`, every
   speed of the band in one call, on the analysis grid) rather than a whole analysis per speed.
 - ``acceleration``, ``jerk`` — the peak |s″| or |s‴| over the segments tuned (by default every
   rise and return: the cycle's peak), per radian² or radian³ of cam angle (mm, or rad of an
@@ -104,7 +105,7 @@ class Residual(Objective):
 def residual_missing(design: Design, analysis: Analysis) -> str | None:
     """Why *design* has no residual vibration to tune, or None: it needs the follower train's
     stiffness (with a mass, a speed and what holds the follower) and a dwell."""
-    from camfab.analysis.at_speed import force_note
+    from camfab.speed.model import force_note
 
     note = force_note(design, design.spring is not None, design.cam.spec.two_sided)
     if note is not None:
@@ -121,27 +122,27 @@ def residual_missing(design: Design, analysis: Analysis) -> str | None:
 
 
 def residuals(design: Design, speeds_rpm: Array) -> Array:
-    """The residual vibration (mm, the largest peak-to-peak dynamic error over a dwell) of
-    *design*'s elastic follower train at each of *speeds_rpm*: the periodic response on the
+    """The residual vibration (mm, the largest peak-to-peak swing of the mass over a dwell)
+    of *design*'s elastic follower train at each of *speeds_rpm*: the periodic response on the
     analysis grid, every speed at once."""
     from camfab.analysis.dynamics import STEP, trace_scale
-    from camfab.analysis.elastic import periodic_response, rigid_force
-    from camfab.analysis.vibration import train_of
+    from camfab.design.train import train_of
+    from camfab.speed.elastic import periodic_error, rigid_force
+    from camfab.speed.vibration import dwell_swings
 
     train = train_of(design, design.spring is not None)
     assert train is not None
     program = design.program
     segment, theta, motion = program.segment_grid(STEP)
     motion = motion * trace_scale(design)
-    dwells = [segment == seg.index for seg in program.segments if seg.kind == "dwell"]
     speeds = np.asarray(speeds_rpm, dtype=np.float64)
     out = np.empty(speeds.size)
     for first in range(0, speeds.size, SPEED_CHUNK):
         omega = speeds[first:first + SPEED_CHUNK] * (math.pi / 30.0)
         with np.errstate(all="ignore"):
             force, rate = rigid_force(train, omega[:, None], motion[:, None, :])
-            error, _ = periodic_response(train, omega, theta, force, rate)
-        swings = [np.ptp(error[:, here], axis=1) for here in dwells]
+            error = periodic_error(train, omega, theta, force, rate)
+        swings = [swing for _, swing in dwell_swings(program, segment, motion[0], error)]
         out[first:first + SPEED_CHUNK] = 1000.0 * np.max(swings, axis=0)
     return out
 

@@ -188,8 +188,9 @@ def _speeds(given: str | None, design: Design) -> Array:
 
 def _check_band(design: Design, band: Array) -> None:
     """Refuse a band holding a speed at which the follower train's periodic state is not
-    computable (:func:`~camfab.analysis.vibration.build_up`)."""
-    from camfab.analysis.vibration import BUILD_UP_LIMIT, build_up, train_of
+    computable (:func:`~camfab.speed.vibration.build_up`)."""
+    from camfab.design.train import train_of
+    from camfab.speed.vibration import BUILD_UP_LIMIT, build_up
 
     train = train_of(design, design.spring is not None)
     assert train is not None

@@ -1,9 +1,9 @@
 """The roller bearing's life as a limit of the sizing (:mod:`camfab.analysis.sizing`): the L₁₀
 hours at a trial size against ``limits.roller_life``, computed as the build computes them
-(:func:`camfab.analysis.contact.roller_life`) on the build's grid of cam angles.
+(:func:`camfab.speed.contact.roller_life`) on the build's grid of cam angles.
 
 The force along the follower's motion does not depend on the cam's size, so it is the one the
-contact stress's sizing computes once per sizing (:func:`camfab.analysis.stress_sizing.forces`);
+contact stress's sizing computes once per sizing (:func:`camfab.speed.stress_sizing.forces`);
 at each trial size the normal force (the pressure angle) and the length the roller rolls over
 the cam change. A larger cam turns the roller more often for each of its own turns, so its
 roller's life in hours mostly falls as the cam grows: the limit bounds the size from above,
@@ -20,9 +20,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from camfab.analysis.contact import trapezoid_weights
 from camfab.analysis.sizing import Grid, LimitValue
 from camfab.arrays import Array
+from camfab.speed.contact import trapezoid_weights
 
 if TYPE_CHECKING:
     from camfab.design import Design
@@ -91,7 +91,7 @@ def life_limit(design: Design, grid_pair: tuple[Grid, Grid]) -> LifeLimit | None
     """The roller's bearing life as a limit of *design*'s sizing on *grid_pair*, or None
     where the design gives no ``limits.roller_life`` (the design file's rules refuse one whose
     life cannot be computed: no roller, no load rating, no force)."""
-    from camfab.analysis.stress_sizing import forces
+    from camfab.speed.stress_sizing import forces
 
     limit, fol, speed = design.limits.roller_life, design.follower, design.cam.speed_rpm
     if limit is None:

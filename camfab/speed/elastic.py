@@ -30,50 +30,19 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from camfab.arrays import Array
 
+if TYPE_CHECKING:
+    from camfab.design.train import Train
+
 #: Below this |λH| the φ-functions are summed as their Taylor series (to its last term that
 #: counts); above it, by their recurrence from e^{λH}, which is then well conditioned.
 _SERIES_BELOW = 1.0
 _SERIES_TERMS = 22
-
-
-@dataclass(frozen=True)
-class Train:
-    """The follower train's lumped model, SI: the mass (kg), the train's stiffness k_f and the
-    return spring's k_s (N/m), the train's damping ratio ζ (of its own damper, c = 2ζ√(mK)),
-    the spring's damping c_s (N·s/m) and the constant load P on the mass (N: preload, external
-    load and weight)."""
-
-    mass: float
-    stiffness: float
-    spring: float
-    zeta: float
-    spring_damping: float = 0.0
-    load: float = 0.0
-
-    @property
-    def total_stiffness(self) -> float:
-        return self.stiffness + self.spring
-
-    @property
-    def natural(self) -> float:
-        """ω_n = √((k_f + k_s)/m) (rad/s)."""
-        return math.sqrt(self.total_stiffness / self.mass)
-
-    @property
-    def damping(self) -> float:
-        """The train's damper c = 2ζ√(m(k_f + k_s)) (N·s/m)."""
-        return 2.0 * self.zeta * math.sqrt(self.mass * self.total_stiffness)
-
-    @property
-    def total_zeta(self) -> float:
-        """ζ_t = (c + c_s)/(2√(mK)): the train's damping and the spring's together."""
-        return self.zeta + self.spring_damping / (2.0 * math.sqrt(self.mass
-                                                                  * self.total_stiffness))
 
 
 @dataclass(frozen=True)
@@ -352,6 +321,14 @@ def contact_force(train: Train, omega: Array | float, error: Array,
     if omega_arr.ndim > 0:
         omega_arr = omega_arr[:, None]
     return -train.stiffness * error - train.damping * omega_arr * error_rate
+
+
+def periodic_error(train: Train, omega: Array | float, theta: Array, force: Array,
+                   rate: Array) -> Array:
+    """The periodic dynamic error e (m) alone on the grid *theta* (rad), at the cam speed
+    *omega* (rad/s) or at several ((S,), with *force* and *rate* of :func:`rigid_force` (S, N)):
+    what :func:`respond` gives, without the contact force and its least."""
+    return 2.0 * _modes(train, omega, theta, force, rate)[0].real
 
 
 def respond(train: Train, omega: float, theta: Array, motion: Array) -> Response:

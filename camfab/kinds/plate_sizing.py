@@ -18,7 +18,6 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from camfab.analysis.life_sizing import LifeLimit, LifeSide, life_limit, offset_rolling
 from camfab.analysis.sizing import (
     SEARCH_FACTOR,
     Grid,
@@ -27,12 +26,13 @@ from camfab.analysis.sizing import (
     grids,
     passes,
 )
-from camfab.analysis.stress_sizing import StressLimit, plate_sides, stress_limit
 from camfab.arrays import Array
 from camfab.curves.follower import FollowerGeometry
 from camfab.design.rules import MIN_WALL_MM, oscillating_fit, wall_need
 from camfab.geometry.disc import DiscCam, PitchParts
 from camfab.motion.mirror import opposite
+from camfab.speed.life_sizing import LifeLimit, LifeSide, life_limit, offset_rolling
+from camfab.speed.stress_sizing import StressLimit, plate_sides, stress_limit
 
 if TYPE_CHECKING:
     from camfab.design import Design

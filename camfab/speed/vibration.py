@@ -1,5 +1,5 @@
 """The follower train's vibration at speed (THEORY §J): the elastic model of
-:mod:`camfab.analysis.elastic` set up from the design and read for what a designer asks of it —
+:mod:`camfab.speed.elastic` set up from the design and read for what a designer asks of it —
 the natural frequency, the dynamic error, the vibration left in each dwell, the dynamic contact
 force and the speed at which it first lets go of the cam, and the acceleration's harmonics.
 
@@ -18,11 +18,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from camfab.analysis.dynamics import G, trace_scale
-from camfab.analysis.elastic import Train, least_force, respond, rigid_force
+from camfab.analysis.dynamics import trace_scale
 from camfab.arrays import Array, Index
 from camfab.design import Design
-from camfab.motion.program import MotionProgram, cycle_angles
+from camfab.design.train import Train, train_of
+from camfab.motion.program import MotionProgram, ProgramSegment, cycle_angles
+from camfab.speed.elastic import least_force, periodic_error, respond, rigid_force
 
 #: The dynamic jump speed is looked for from this share of the design speed ...
 SEARCH_FROM = 0.02
@@ -43,7 +44,7 @@ JUMP_TOLERANCE = 1e-7
 #: The cam-angle steps (rad) of the scan's grid and of the bracket's: the forcing's cubic between
 #: points 2° apart is within some 1e-4 of the exact force, 1° apart some 1e-5: enough to find
 #: the bracket, which the analysis grid (some 1e-13) then narrows. Each speed's least force is
-#: the continuous response's (:func:`~camfab.analysis.elastic.least_force`), not its grid's.
+#: the continuous response's (:func:`~camfab.speed.elastic.least_force`), not its grid's.
 SCAN_STEP = math.radians(2.0)
 SEARCH_STEP = math.radians(1.0)
 #: The narrowing of a bracket takes secant steps once it is this narrow (relative: the least
@@ -86,7 +87,7 @@ class Vibration:
     ``harmonics`` and ``amplitudes`` are the acceleration's harmonics (per turn) and their
     amplitudes (m/s² at the trace point); ``trace_m`` is the trace point's metres per unit of
     lift (mm, or rad of an arm's swing); ``least_N`` the least contact force of the
-    continuous response and ``least_at_rad`` where (:func:`~camfab.analysis.elastic.
+    continuous response and ``least_at_rad`` where (:func:`~camfab.speed.elastic.
     least_force`)."""
 
     train: Train
@@ -215,29 +216,6 @@ def resonance_note(design: Design, train: Train) -> str | None:
             "whole multiples of the cam's")
 
 
-def spring_load(design: Design) -> float:
-    """The constant load on a spring-held follower (N): the spring's preload, the external load
-    and, with ``gravity``, the follower's weight."""
-    spring, mass = design.spring, design.follower.mass or 0.0
-    assert spring is not None
-    rate = spring.rate * 1000.0
-    preload = spring.preload if spring.preload is not None else rate * (
-        (spring.initial_compression or 0.0) / 1000.0)
-    return preload + spring.external_load + (mass * G if spring.gravity else 0.0)
-
-
-def train_of(design: Design, held_by_spring: bool) -> Train | None:
-    """The design's follower train at its trace point (SI), or None without a stiffness; a
-    positive-drive cam's has no spring (*held_by_spring* False)."""
-    fol, spring = design.follower, design.spring
-    if fol.stiffness is None or fol.mass is None:
-        return None
-    if not held_by_spring or spring is None:
-        return Train(fol.mass, fol.stiffness * 1000.0, 0.0, fol.train_damping_ratio)
-    return Train(fol.mass, fol.stiffness * 1000.0, spring.rate * 1000.0,
-                 fol.train_damping_ratio, spring.damping, spring_load(design))
-
-
 def vibration(design: Design, program: MotionProgram, held_by_spring: bool, two_sided: bool,
               step: float) -> Vibration | None:
     """The elastic follower train of *design* at its speed on the analysis grid of *step*
@@ -252,9 +230,9 @@ def vibration(design: Design, program: MotionProgram, held_by_spring: bool, two_
     segment, theta, motion = program.segment_grid(step)
     response = respond(train, omega, theta, motion * scale)
     rigid, _ = rigid_force(train, omega, motion * scale)
-    dwells = tuple(Dwell(seg.index, _deg(seg.start), _deg(seg.end),
-                         float(np.ptp(response.error[segment == seg.index])))
-                   for seg in program.segments if seg.kind == "dwell")
+    swings = dwell_swings(program, segment, motion[0] * scale, response.error)
+    dwells = tuple(Dwell(seg.index, _deg(seg.start), _deg(seg.end), float(swing))
+                   for seg, swing in swings)
     speed = design.cam.speed_rpm
     assert speed is not None
     search = JumpSearch(None, SEARCH_FROM * speed, SEARCH_TO * speed, False)
@@ -269,6 +247,72 @@ def vibration(design: Design, program: MotionProgram, held_by_spring: bool, two_
                      dwells, search.speed_rpm, search.low_rpm, search.high_rpm,
                      search.every_speed, changes, harmonics, amplitudes, scale, response.least,
                      response.least_at)
+
+
+def dwell_swings(program: MotionProgram, segment: Index, lift: Array,
+                 error: Array) -> list[tuple[ProgramSegment, Array]]:
+    """Each dwell of *program* with the vibration left in it: the peak-to-peak swing (m) of the
+    mass's position x = s + e over the dwell, from the cam's *lift* s and the dynamic *error* e
+    (m) on the grid whose points lie in the segments *segment* (the last axis of *error*; any
+    before it, several speeds). The cam's lift is constant in a dwell, so this is the error's
+    swing; a polydyne cam's moves there (the tail of its damped solution) while the mass stands
+    still."""
+    out = []
+    for seg in program.segments:
+        if seg.kind == "dwell":
+            inside = segment == seg.index
+            moved = lift[inside] - lift[inside][0]
+            out.append((seg, np.ptp(error[..., inside] + moved, axis=-1)))
+    return out
+
+
+#: A polydyne cam's vibration against speed is shown from this share of its design speed to
+#: that, :data:`BAND_STEPS` steps each side (1 % apart).
+BAND_FROM, BAND_TO, BAND_STEPS = 0.6, 1.4, 40
+
+
+@dataclass(frozen=True)
+class SpeedBand:
+    """A polydyne cam's vibration against speed, beside its motion list cut directly as the
+    cam: the speeds (rpm), the largest dwell swing (m) at each of the polydyne cam and of the
+    direct cam (NaN where the train resonates: :data:`BUILD_UP_LIMIT`), and the band of speeds
+    about the design speed over which the polydyne cam rings less (rpm)."""
+
+    speeds_rpm: Array
+    polydyne_m: Array
+    direct_m: Array
+    low_rpm: float
+    high_rpm: float
+
+
+def speed_band(train: Train, cam: MotionProgram, direct: MotionProgram, speed_rpm: float,
+               scale: float, step: float) -> SpeedBand:
+    """The vibration against speed of the *cam* (a polydyne cam's lift, cut for *speed_rpm*)
+    and of the *direct* cam (its motion list as the lift), with the *train* at its trace point
+    (*scale* m per unit of lift) on the analysis grid of *step* (rad)."""
+    steps = np.arange(-BAND_STEPS, BAND_STEPS + 1)
+    share = np.where(steps < 0, 1.0 + steps * ((1.0 - BAND_FROM) / BAND_STEPS),
+                     1.0 + steps * ((BAND_TO - 1.0) / BAND_STEPS))
+    speeds = speed_rpm * share
+    omega = speeds * (math.pi / 30.0)
+    usable = np.array([build_up(train, w) <= BUILD_UP_LIMIT for w in omega])
+    found = []
+    for program in (cam, direct):
+        segment, theta, motion = program.segment_grid(step)
+        lifted = motion * scale
+        with np.errstate(all="ignore"):
+            force, rate = rigid_force(train, omega[:, None], lifted[:, None, :])
+            error = periodic_error(train, omega, theta, force, rate)
+        swings = [swing for _, swing in dwell_swings(program, segment, lifted[0], error)]
+        found.append(np.where(usable, np.max(swings, axis=0), np.nan))
+    polydyne, plain = found
+    better = polydyne < plain
+    low = high = BAND_STEPS
+    while low > 0 and better[low - 1]:
+        low -= 1
+    while high < steps.size - 1 and better[high + 1]:
+        high += 1
+    return SpeedBand(speeds, polydyne, plain, float(speeds[low]), float(speeds[high]))
 
 
 @dataclass(frozen=True)
@@ -293,7 +337,7 @@ class _Least:
 
     def __call__(self, speeds_rpm: Array | list[float], floor: float = math.inf) -> Array:
         """The least forces at *speeds_rpm*, exact as far as they decide the comparison with
-        *floor* (:func:`~camfab.analysis.elastic.least_force`)."""
+        *floor* (:func:`~camfab.speed.elastic.least_force`)."""
         omega = np.asarray(speeds_rpm, dtype=np.float64) * (math.pi / 30.0)
         with np.errstate(all="ignore"):
             force, rate = rigid_force(self.train, omega[:, None], self.motion[:, None, :])

@@ -25,9 +25,9 @@ from typing import Literal
 
 import numpy as np
 
-from camfab.analysis.hertz import effective_modulus, line_contact, point_contact
 from camfab.arrays import Array, Index
 from camfab.design import Design
+from camfab.speed.hertz import effective_modulus, line_contact, point_contact
 
 #: Why a knife edge gets no contact stress.
 KNIFE_NOTE = ("a knife edge's contact has no area, so Hertz gives its stress no finite value: "

@@ -3,11 +3,11 @@ cycle and the roller bearing's life, with their checks (THEORY §I, §J, §K).
 
 The force along the follower's motion comes from the rigid model (:mod:`camfab.analysis.dynamics`:
 the spring, the inertia, the loads), or from the elastic train where the design gives the
-follower's ``stiffness`` (:mod:`camfab.analysis.vibration`); a cam that drives its follower both
+follower's ``stiffness`` (:mod:`camfab.speed.vibration`); a cam that drives its follower both
 ways (a groove, a conjugate pair, a globoid, a drum without a spring) supplies the inertia
 force alone, m·ω²·s″, on whichever side carries it. The kind says where its follower touches it
 (:meth:`~camfab.analysis.record.CamResult.contact`); the normal force there gives the stress
-(:mod:`camfab.analysis.contact`) and, for a roller, its bearing's life.
+(:mod:`camfab.speed.contact`) and, for a roller, its bearing's life.
 
 Forces in N, stresses in MPa, lengths in mm, lives in hours.
 """
@@ -20,23 +20,23 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from camfab.analysis.cam_checks import fmt, where
-from camfab.analysis.contact import (
+from camfab.analysis.dynamics import STEP, safe_rpm, trace_scale
+from camfab.analysis.findings import Finding
+from camfab.angles import ranges_deg
+from camfab.arrays import Array
+from camfab.design import Design
+from camfab.design.train import rigid_train, train_of
+from camfab.speed.contact import (
     Contact,
     ContactStress,
     RollerLife,
     contact_stress,
     roller_life,
 )
-from camfab.analysis.dynamics import STEP, safe_rpm, trace_scale
-from camfab.analysis.elastic import Train
-from camfab.analysis.findings import Finding
-from camfab.angles import ranges_deg
-from camfab.arrays import Array
-from camfab.design import Design
 
 if TYPE_CHECKING:
     from camfab.analysis.record import Analysis
-    from camfab.analysis.vibration import Vibration
+    from camfab.speed.vibration import SpeedBand, Vibration
 
 
 @dataclass(frozen=True)
@@ -60,6 +60,9 @@ class AtSpeed:
         The contact stress and the roller bearing's life (None where not computed).
     force_note, stress_note, life_note
         Why a number is missing, where it is.
+    band
+        A polydyne cam's vibration against speed beside its motion list cut directly (None for
+        other cams, and without the elastic train's state).
     """
 
     contact: Contact | None
@@ -72,6 +75,7 @@ class AtSpeed:
     force_note: str | None = None
     stress_note: str | None = None
     life_note: str | None = None
+    band: SpeedBand | None = None
 
 
 def force_note(design: Design, held_by_spring: bool, two_sided: bool) -> str | None:
@@ -88,28 +92,12 @@ def force_note(design: Design, held_by_spring: bool, two_sided: bool) -> str | N
     return None
 
 
-def rigid_train(design: Design, held_by_spring: bool) -> Train:
-    """The rigid model's follower at its trace point, SI: its mass, and with *held_by_spring*
-    the spring's rate, damping and constant load (preload, external load, weight), for the
-    force F = m ω² s″ + c ω s′ + k s + P along its motion
-    (:func:`camfab.analysis.elastic.rigid_force`)."""
-    from camfab.analysis.vibration import spring_load
-
-    fol, spring = design.follower, design.spring
-    assert fol.mass is not None
-    if not held_by_spring or spring is None:
-        return Train(fol.mass, 0.0, 0.0, 0.0)
-    return Train(fol.mass, 0.0, spring.rate * 1000.0, 0.0, spring.damping,
-                 spring_load(design))
-
-
 def drive_force(design: Design, theta: Array, motion: Array, held_by_spring: bool) -> Array:
     """The force along the follower's motion (N) on the grid *theta* (rad, one turn increasing
     from 0 to 2π, a joint twice) of the *motion* (s … s‴ per radian, (4, N)): the elastic
     train's contact force where the design gives a stiffness, else the rigid model's (the
     design has a force: :func:`force_note`)."""
-    from camfab.analysis.elastic import respond, rigid_force
-    from camfab.analysis.vibration import train_of
+    from camfab.speed.elastic import respond, rigid_force
 
     omega = design.cam.omega
     assert omega is not None
@@ -124,7 +112,7 @@ def at_speed(analysis: Analysis) -> Analysis:
     """*analysis* with the cam at its speed (:class:`AtSpeed`) and the checks of it:
     ``dynamic_jump`` (an elastic, spring-held follower leaving the cam), ``contact_stress``
     (against ``limits.contact_stress``) and ``roller_life`` (against ``limits.roller_life``)."""
-    from camfab.analysis.vibration import resonance_note, train_of, vibration
+    from camfab.speed.vibration import resonance_note, vibration
 
     design = analysis.design
     held_by_spring = design.spring is not None
@@ -155,9 +143,16 @@ def at_speed(analysis: Analysis) -> Analysis:
     elif design.follower.roller_load_rating is None:
         life_note = ("no load rating: give follower.roller_load_rating (the bearing's basic "
                      "dynamic load rating C) for its life")
+    band = None
+    if shaken is not None and design.motion_target == "output":
+        from camfab.speed.vibration import speed_band
+
+        assert design.cam.speed_rpm is not None
+        band = speed_band(shaken.train, analysis.program, design.output_program,
+                          design.cam.speed_rpm, trace_scale(design), STEP)
     record = AtSpeed(contact, theta, force, held_by_spring, shaken, stress, life, missing,
                      None if stress is not None else stress_note,
-                     None if life is not None else life_note)
+                     None if life is not None else life_note, band)
     lift = float(np.ptp(motion[0]))
     findings = [*analysis.findings, *_findings(analysis, record, resonant, lift)]
     return replace(analysis, at_speed=record, findings=findings)

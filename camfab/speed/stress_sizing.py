@@ -1,6 +1,6 @@
 """The contact stress as a limit of the sizing (:mod:`camfab.analysis.sizing`): the largest Hertz
 stress at a trial size against ``limits.contact_stress``, measured as the build measures it
-(:mod:`camfab.analysis.contact`) on the sizing's grids.
+(:mod:`camfab.speed.contact`) on the sizing's grids.
 
 The force along the follower's motion does not depend on the cam's size (its mass, spring and
 motion do not), so it is computed once per sizing on each grid; at each trial size only the
@@ -17,9 +17,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from camfab.analysis.hertz import effective_modulus, line_contact, point_contact
 from camfab.analysis.sizing import Grid, LimitValue
 from camfab.arrays import Array
+from camfab.speed.hertz import effective_modulus, line_contact, point_contact
 
 if TYPE_CHECKING:
     from camfab.design import Design
@@ -69,7 +69,7 @@ def stress_limit(design: Design, grid_pair: tuple[Grid, Grid]) -> StressLimit | 
     """The contact stress as a limit of *design*'s sizing on *grid_pair*, or None where the
     design gives no ``limits.contact_stress`` (the design file's rules refuse one whose stress
     cannot be computed: a knife, no force, a contact of unknown length)."""
-    from camfab.analysis.contact import contact_length
+    from camfab.speed.contact import contact_length
 
     limit, fol = design.limits.contact_stress, design.follower
     held_by_spring = design.spring is not None
@@ -96,8 +96,8 @@ def forces(design: Design, grid_pair: tuple[Grid, Grid],
     """The force along the follower's motion (N) on the pair's grids: the build's, and the
     build's followed by the finer one's, each solved on its own (an elastic train's response
     runs over one turn); the roller life's sizing takes the build's
-    (:mod:`camfab.analysis.life_sizing`)."""
-    from camfab.analysis.at_speed import drive_force
+    (:mod:`camfab.speed.life_sizing`)."""
+    from camfab.speed.model import drive_force
 
     build, both = grid_pair
     key = (id(design), id(build), id(both))
