@@ -403,3 +403,16 @@ def test_a_spline_s_control_values_are_tuned_to_their_least_peak(tmp_path: Path)
     result = run_cli("tune", str(counted), "--objective", "acceleration", "--segment", "0")
     assert result.exit_code == 2, result.output
     assert "write them as a list to free them (controls: [" in result.output
+
+
+def test_a_polydyne_cam_s_laws_the_rules_refuse_are_out(tmp_path: Path) -> None:
+    """A polydyne cam's segments take the laws with polynomial pieces and four continuous
+    derivatives: the others are out of the search (its program refuses them), not its end
+    (nor a stop that writes the best so far)."""
+    text = (DESIGNS / "demo-polydyne.yaml").read_text(encoding="utf-8")
+    result = tune(tmp_path / "polydyne.yaml", text, "--objective", "acceleration",
+                  "--segment", "0")
+    assert result.exit_code == 0, result.output
+    assert "stopped" not in result.output and "internal error" not in result.output
+    page = (tmp_path / "polydyne-tuning.html").read_text(encoding="utf-8")
+    assert "uniform-velocity</td><td>–</td><td>out:" in page

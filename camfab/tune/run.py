@@ -11,6 +11,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
+from camfab.stopping import Interrupted
 from camfab.tune.plan import Plan, TuneOptions, plan, tuned_text
 from camfab.tune.search import Search
 
@@ -37,7 +38,8 @@ def tune(options: TuneOptions, echo: Callable[[str], None] = print,
     search = Search(tuning.evaluator, tuning.start, options.starts, progress)
     try:
         search.run()
-    except BaseException:  # a stop: the best so far is written, then the stop goes on
+    except (KeyboardInterrupt, Interrupted):
+        # a stop: the best found so far is written, then the stop goes on
         if progress is not None:
             progress.finish()
         if search.before is None or not search.before.checked:

@@ -142,8 +142,8 @@ class Evaluator:
         design = self.design_of(assignment)
         try:
             program = design.program
-        except ValueError as exc:  # a law the segment's conditions do not determine
-            trial.out = " ".join(str(exc).split())
+        except Exception as exc:  # a law the segment's conditions (or a polydyne cam's rules)
+            trial.out = " ".join(str(exc).split())  # do not allow: out, not the end
             return trial
         orders = joint_orders(program, self.tolerances)
         worse = [i for i, (got, need) in enumerate(zip(orders, self.required, strict=True))
