@@ -340,9 +340,9 @@ def tune(design: str, segments: str | None, objective: str | None, speeds: str |
     returns (a standard law among those its neighbours' continuity allows, a polynomial's
     points, a spline's control values, a blend) to minimise the objective under every limit of
     the design, and write the tuned design (only those values changed, comments kept) and a
-    report comparing before and after. Exit 0 when the tuned design meets every limit, 1 when no candidate does (the report
-    says why, no design is written), 2 for bad input (nothing written); Ctrl-C writes the best
-    found so far and stops (130)."""
+    report comparing before and after. Exit 0 when the tuned design meets every limit, 1 when
+    no candidate does (the report says why, no design is written), 2 for bad input (nothing
+    written); Ctrl-C writes the best found so far and stops (130)."""
     from camfab.tune.plan import TuneOptions
 
     if progress is None:

@@ -416,3 +416,10 @@ def test_a_polydyne_cam_s_laws_the_rules_refuse_are_out(tmp_path: Path) -> None:
     assert "stopped" not in result.output and "internal error" not in result.output
     page = (tmp_path / "polydyne-tuning.html").read_text(encoding="utf-8")
     assert "uniform-velocity</td><td>–</td><td>out:" in page
+
+
+def test_the_command_offers_every_objective() -> None:
+    from camfab.cli import TUNE_OBJECTIVES
+    from camfab.tune.objectives import NAMES
+
+    assert TUNE_OBJECTIVES == NAMES
