@@ -30,10 +30,13 @@ if TYPE_CHECKING:
     from camfab.inspect import Inspection, InspectOptions
     from camfab.inspect.scan_run import ScanResult
     from camfab.sweep.run import SweepOptions
+    from camfab.tune.plan import TuneOptions
 
 STARTER_KINDS = ("disc-roller", "disc-knife", "disc-flat", "disc-mushroom", "oscillating",
                  "oscillating-flat", "cylindrical", "circular-arc", "tangent", "groove",
                  "conjugate", "constant-breadth", "linear", "globoidal")
+#: ``camfab tune --objective``'s choices (:data:`camfab.tune.objectives.NAMES`).
+TUNE_OBJECTIVES = ("residual", "acceleration", "jerk", "stress", "torque")
 
 
 @contextmanager
@@ -306,6 +309,54 @@ def _sweep_one(options: SweepOptions) -> Outcome:
         lines.append(f"  built {folder}/ ({ {0: 'OK', 1: 'FAIL'}.get(status, 'INVALID') })")
         code = max(code, status)
     return Outcome(code, out=lines)
+
+
+@main.command()
+@click.argument("design")
+@click.option("--segment", "segments", metavar="I,J",
+              help="Tune these segments of the motion list (numbered from 0; default: every "
+                   "rise and return).")
+@click.option("--objective", type=click.Choice(TUNE_OBJECTIVES),
+              help="What to minimise: the largest residual vibration over the speeds of "
+                   "--speeds (default with a follower.stiffness), the peak acceleration "
+                   "(default without) or jerk of the motion, the peak contact stress, or the "
+                   "peak camshaft torque.")
+@click.option("--speeds", metavar="LOW:HIGH[:N]",
+              help="The band of cam speeds (rpm) the residual vibration is taken over: "
+                   "LOW:HIGH (7 speeds), LOW:HIGH:N, a list A,B,C or one speed (default: the "
+                   "design speed ±10 %).")
+@click.option("--starts", type=click.IntRange(1, 64), default=4, show_default=True,
+              help="Starts of the optimisation of the continuous parameters (the design's own "
+                   "values, then seeded random ones).")
+@click.option("-o", "--output", type=click.Path(dir_okay=False, path_type=Path),
+              metavar="OUT.yaml",
+              help="Write the tuned design here instead of NAME-tuned.yaml beside the design "
+                   "(the report NAME-tuning.html goes beside it).")
+@click.option("--progress/--no-progress", default=None,
+              help="Show a progress line on stderr (default: when stderr is a terminal).")
+def tune(design: str, segments: str | None, objective: str | None, speeds: str | None,
+         starts: int, output: Path | None, progress: bool | None) -> None:
+    """Tune DESIGN's motion laws: choose the free parameters of the laws of its rises and
+    returns (a standard law among those its neighbours' continuity allows, a polynomial's
+    points, a spline's control values, a blend) to minimise the objective under every limit of
+    the design, and write the tuned design (only those values changed, comments kept) and a
+    report comparing before and after. Exit 0 when the tuned design meets every limit, 1 when
+    no candidate does (the report says why, no design is written), 2 for bad input (nothing
+    written); Ctrl-C writes the best found so far and stops (130)."""
+    from camfab.tune.plan import TuneOptions
+
+    if progress is None:
+        progress = sys.stderr.isatty()
+    options = TuneOptions(Path(design), segments, objective, speeds, starts, output, progress)
+    sys.exit(_finish([_guarded(design, lambda: _tune_one(options))]))
+
+
+def _tune_one(options: TuneOptions) -> Outcome:
+    from camfab.tune.run import tune as run
+
+    done = run(options, click.echo, lambda text: click.echo(text, err=True, nl=False),
+               sys.stderr.isatty())
+    return Outcome(done.code, out=done.lines)
 
 
 @main.command()

@@ -15,6 +15,19 @@ class CamfabError(Exception):
     """Base of every error camfab raises on purpose."""
 
 
+class CommandError(CamfabError, ValueError):
+    """A command's options refused: one line, after ``camfab COMMAND:``, naming the option and
+    the problem (exit 2). What the user typed is echoed: a character that is not printable (a
+    line or record separator, a control) is shown escaped, so the message stays one line on
+    any terminal."""
+
+    command = ""
+
+    def __init__(self, message: str) -> None:
+        shown = "".join(c if c.isprintable() else repr(c)[1:-1] for c in message)
+        super().__init__(f"camfab {self.command}: {shown}")
+
+
 @dataclass(frozen=True)
 class Location:
     """Where in a design file something is: file name, 1-based line, dotted field path."""

@@ -23,7 +23,8 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("camfab.kinds",),
     ("camfab.pipeline", "camfab.report_text", "camfab.sizing_text"),
     ("camfab.inspect",),
-    ("camfab.workers", "camfab.batch", "camfab.sweep", "camfab.serve", "camfab.cli",
+    ("camfab.workers", "camfab.batch", "camfab.sweep", "camfab.tune", "camfab.serve",
+     "camfab.cli",
      "camfab.start", "camfab.__main__"),
 )
 

@@ -31,18 +31,29 @@ class Step:
         return abs(self.right - self.left)
 
 
-def joint_steps(program: MotionProgram) -> list[Step]:
-    """The lowest-order step (velocity, acceleration or jerk) at each joint that has one.
-
-    Where a derivative steps, every higher one is unbounded at that joint, so only the lowest
-    stepping order is recorded there.
-    """
+def step_tolerances(program: MotionProgram) -> dict[int, float]:
+    """How much each derivative (order 1, 2, 3) may differ across a joint of *program* and
+    still count as continuous: :data:`RELATIVE_STEP` of its largest value in the program."""
     joints = program.joints()
     tolerances = {}
     for order in (1, 2, 3):
         finite = [p for p in (seg.peak(order) for seg in program.segments) if math.isfinite(p)]
         sides = [abs(v) for j in joints for v in (j.left[order], j.right[order])]
         tolerances[order] = max(RELATIVE_STEP * max([*finite, *sides, 0.0]), 1e-12)
+    return tolerances
+
+
+def joint_steps(program: MotionProgram,
+                tolerances: dict[int, float] | None = None) -> list[Step]:
+    """The lowest-order step (velocity, acceleration or jerk) at each joint that has one.
+
+    Where a derivative steps, every higher one is unbounded at that joint, so only the lowest
+    stepping order is recorded there. *tolerances*: :func:`step_tolerances` (of *program*, or
+    of another program to judge this one by its scale: the variants of one design).
+    """
+    joints = program.joints()
+    if tolerances is None:
+        tolerances = step_tolerances(program)
     steps = []
     for joint in joints:
         for order in (1, 2, 3):

@@ -90,8 +90,6 @@ def _freeze_once() -> None:
 def row(base: dict[str, Any], file: str, folder: Path, keys: Sequence[tuple[str | int, ...]],
         index: int, values: tuple[Any, ...], size: bool = False) -> Row:
     """Variant *index* with *values* at *keys*: its row (see the module)."""
-    from camfab.errors import CamfabError
-    from camfab.pipeline import analyse, design_from_mapping
     from camfab.sweep.vary import with_values
 
     blank = (None,) * (len(NUMBERS) + (len(SIZE_NUMBERS) if size else 0))
@@ -99,21 +97,35 @@ def row(base: dict[str, Any], file: str, folder: Path, keys: Sequence[tuple[str 
         data = with_values(base, keys, values)
     except LookupError as exc:
         return (index, *values, "INVALID", f"{file}: {exc}", *blank)
+    status, message, analysis = checked(data, file, folder)
+    if analysis is None:
+        return (index, *values, status, message, *blank)
+    numbers = key_numbers(analysis)
+    if size:
+        numbers = (*numbers, least_size(analysis.design))
+    return (index, *values, status, message, *numbers)
+
+
+def checked(data: dict[str, Any], file: str,
+            folder: Path) -> tuple[str, str, Analysis | None]:
+    """The design data *data* from *file* (its table files found from *folder*) validated and
+    analysed without files: its status (``OK``, ``FAIL``, ``INVALID``), its message (the
+    checks that failed, or the design's one-line error) and its analysis (None when
+    INVALID). A design that fails in any way is a status, never an exception."""
+    from camfab.errors import CamfabError
+    from camfab.pipeline import analyse, design_from_mapping
+
     try:
         design = design_from_mapping(data, file, folder)
         analysis = analyse(design, advice=False)
     except CamfabError as exc:
-        return (index, *values, "INVALID", " ".join(str(exc).split()), *blank)
-    except Exception as exc:  # a design the analysis cannot take: its row, not the sweep's end
-        return (index, *values, "INVALID", f"{file}: cannot analyse: "
-                f"{type(exc).__name__}: {' '.join(str(exc).split())}", *blank)
+        return "INVALID", " ".join(str(exc).split()), None
+    except Exception as exc:  # a design the analysis cannot take: its status, not an end
+        return "INVALID", (f"{file}: cannot analyse: "
+                           f"{type(exc).__name__}: {' '.join(str(exc).split())}"), None
     failed = [f.id for f in analysis.findings if not f.ok and f.severity == "error"]
-    status = "FAIL" if failed else "OK"
     message = f"{FAILED}{', '.join(dict.fromkeys(failed))}" if failed else ""
-    numbers = key_numbers(analysis)
-    if size:
-        numbers = (*numbers, least_size(design))
-    return (index, *values, status, message, *numbers)
+    return ("FAIL" if failed else "OK"), message, analysis
 
 
 def died_row(variant: tuple[int, tuple[Any, ...]], died: Died, size: bool = False) -> Row:

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from camfab.errors import CamfabError
+from camfab.errors import CommandError
 
 #: The most variants one sweep takes (count): ten million rows of a few hundred bytes each.
 MAX_VARIANTS = 10_000_000
@@ -37,15 +37,11 @@ _PART = re.compile(r"([a-z_][a-z0-9_]*)(?:\[(\d+)\])?")
 SEGMENT_KINDS = ("rise", "dwell", "return")
 
 
-class SweepError(CamfabError, ValueError):
+class SweepError(CommandError):
     """A sweep's options refused: one line naming the option and the problem (exit 2), after
     ``camfab sweep:``."""
 
-    def __init__(self, message: str) -> None:
-        # what the user typed is echoed: a character that is not printable (a line or record
-        # separator, a control) is shown escaped, so the message stays one line on any terminal
-        shown = "".join(c if c.isprintable() else repr(c)[1:-1] for c in message)
-        super().__init__(f"camfab sweep: {shown}")
+    command = "sweep"
 
 
 @dataclass(frozen=True)
