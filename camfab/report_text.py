@@ -91,6 +91,11 @@ def _at_speed_words(analysis: Analysis) -> str | None:
         if shaken.residual_m is not None:
             words += f", {_num(1000.0 * shaken.residual_m)} mm left ringing in a dwell"
         parts.append(words)
+    if speed.band is not None:
+        band = speed.band
+        parts.append(f"a polydyne cam: the motion cut directly would leave "
+                     f"{_num(1000.0 * float(band.direct_m[band.at]))} mm ringing; this one rings "
+                     f"less from {_num(band.low_rpm)} to {_num(band.high_rpm)} rpm")
     if speed.life is not None:
         life = speed.life
         parts.append(f"{life.names[life.least]}'s bearing L10 {_num(life.hours_min)} h")

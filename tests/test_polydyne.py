@@ -108,3 +108,12 @@ def test_the_polydyne_example_builds_and_its_report_shows_both_motions(tmp_path)
     result = run_cli("build", str(DESIGNS / "demo-polydyne.yaml"), "-o", str(tmp_path))
     assert result.exit_code in (0, 1), result.output
     assert (tmp_path / "demo-polydyne.dxf").exists()
+
+
+def test_the_studio_offers_what_the_motion_describes_as_a_choice() -> None:
+    from camfab.serve.yamledit import fields
+
+    found = [f.as_json() for f in fields((DESIGNS / "demo-polydyne.yaml").read_text())
+             if f.path == "motion_target"]
+    assert found == [{"path": "motion_target", "kind": "choice", "value": "output",
+                      "choices": ["cam", "output"]}]

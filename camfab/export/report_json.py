@@ -235,7 +235,7 @@ def polydyne_dict(analysis: Analysis) -> dict[str, Any]:
     theta = shaken.theta
     apart = (analysis.program.evaluate(theta)[0]
              - analysis.design.output_program.evaluate(theta)[0]) * shaken.trace_m
-    at = int(np.argmin(np.abs(band.speeds_rpm - shaken.speed_rpm)))
+    at = band.at
     return {
         "speed_rpm": shaken.speed_rpm,
         "cam_minus_output_max_mm": 1000.0 * float(np.max(np.abs(apart))),

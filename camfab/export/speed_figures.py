@@ -146,11 +146,7 @@ def band_figure(analysis: Analysis) -> str | None:
     band = None if speed is None else speed.band
     if band is None:
         return None
-    height = 2.6
-    left, right = side_margins()
-    fig = Figure(FIGURE_WIDTH, height, "band", left=left, right=right,
-                 top=1 - 0.3 / height, bottom=0.55 / height)
-    [ax] = fig.subplots()
+    fig, ax = _one_panel("band")
     ax.axvspan(band.low_rpm, band.high_rpm, color=WARN, alpha=0.15,
                label="the polydyne cam rings less")
     ax.plot(band.speeds_rpm, band.direct_m * 1000.0, color=REFERENCE, linewidth=1.0,
@@ -181,11 +177,7 @@ def spectrum_figure(analysis: Analysis) -> str | None:
     shaken = None if speed is None else speed.vibration
     if shaken is None:
         return None
-    height = 2.6
-    left, right = side_margins()
-    fig = Figure(FIGURE_WIDTH, height, "spectrum", left=left, right=right,
-                 top=1 - 0.3 / height, bottom=0.55 / height)
-    [ax] = fig.subplots()
+    fig, ax = _one_panel("spectrum")
     n, amplitude = shaken.harmonics, shaken.amplitudes
     x = np.repeat(n.astype(float), 3)
     y = np.column_stack((np.zeros(n.size), amplitude, np.full(n.size, np.nan))).ravel()
@@ -201,6 +193,16 @@ def spectrum_figure(analysis: Analysis) -> str | None:
     ax.set_xlabel(f"harmonic of the cam's turning ({shaken.speed_rpm / 60.0:.4g} Hz)")
     ax.legend(fontsize=LEGEND_FONT, outside_right=True)
     return fig.svg()
+
+
+def _one_panel(name: str) -> tuple[Figure, Axes]:
+    """A figure of one panel, 2.6 in high, named *name*, its margins as the others'."""
+    height = 2.6
+    left, right = side_margins()
+    fig = Figure(FIGURE_WIDTH, height, name, left=left, right=right,
+                 top=1 - 0.3 / height, bottom=0.55 / height)
+    [ax] = fig.subplots()
+    return fig, ax
 
 
 def _finish(fig: Figure, axes: list[Axes], analysis: Analysis) -> str:

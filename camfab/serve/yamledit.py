@@ -634,7 +634,8 @@ class Field:
 #: Keys whose value names a file (a table law's CSV): shown, not edited, in the studio.
 FILE_KEYS = frozenset({"csv"})
 #: Words the design file takes as a choice, by key (the others are text).
-CHOICES = {"rotation": ("ccw", "cw"), "units": ("mm", "in"), "pivot_side": ("left", "right")}
+CHOICES = {"rotation": ("ccw", "cw"), "units": ("mm", "in"), "pivot_side": ("left", "right"),
+           "motion_target": ("cam", "output")}
 #: Keys that are an angle (deg): their slider runs over a turn (or a quarter of one).
 _ANGLES = {"angle", "start", "end", "pressure_angle", "phase"}
 

@@ -284,6 +284,11 @@ class SpeedBand:
     low_rpm: float
     high_rpm: float
 
+    @property
+    def at(self) -> int:
+        """The index of the design speed (as many speeds below it as above)."""
+        return self.speeds_rpm.size // 2
+
 
 def speed_band(train: Train, cam: MotionProgram, direct: MotionProgram, speed_rpm: float,
                scale: float, step: float) -> SpeedBand:
