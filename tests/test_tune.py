@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import difflib
 import math
+import re
 import signal
 import subprocess
 import sys
@@ -189,12 +190,12 @@ def integrated_residual(design_path: Path, rpm: float = 1500.0, turns: int = 6) 
     solved = solve_ivp(motion, (0.0, turns * period), [start, 0.0], method="DOP853",
                        rtol=1e-8, atol=1e-12, dense_output=True)
     assert solved.success
-    t = (turns - 1) * period + np.linspace(0.0, period, 7201)
-    error = solved.sol(t)[0] - lift((omega * t) % (2.0 * math.pi))
-    degrees = np.linspace(0.0, 360.0, 7201)
-    swings = [np.ptp(error[(degrees >= math.degrees(seg.start))
-                           & (degrees <= math.degrees(seg.end))])
-              for seg in program.segments if seg.kind == "dwell"]
+    swings = []
+    for seg in program.segments:
+        if seg.kind == "dwell":  # its own samples, 0.01° apart, both ends included
+            angle = np.linspace(seg.start, seg.end, max(2, round(math.degrees(seg.span) * 100)))
+            t = (turns - 1) * period + angle / omega
+            swings.append(np.ptp(solved.sol(t)[0] - lift(angle)))
     return 1000.0 * max(swings)
 
 
@@ -220,6 +221,26 @@ def test_the_tuned_residual_is_below_the_best_standard_law_s(
         path.write_text(yaml.safe_dump(data), encoding="utf-8")
         standard[law] = integrated_residual(path)
     assert tuned_residual < min(standard.values()), (tuned_residual, standard)
+
+
+def test_the_gain_it_prints_over_the_best_standard_law_is_the_integration_s(
+        tuned_valve: tuple[Path, Path, str], tmp_path: Path) -> None:
+    """The tuned laws' gain over the best standard law in their place (the same law in every
+    tuned segment), as the command prints it, is the gain the integration measures."""
+    _, tuned, output = tuned_valve
+    found = re.search(r"the best standard law in their place, ([a-z0-9-]+): ([0-9.e-]+) mm, "
+                      r"([0-9.]+) times the tuned laws'", output)
+    assert found, output
+    law, factor = found.group(1), float(found.group(3))
+    data = yaml.safe_load(VALVE.read_text(encoding="utf-8"))
+    data["motion"][0]["rise"] = {"angle": data["motion"][0]["rise"]["angle"],
+                                 "lift": data["motion"][0]["rise"]["lift"], "law": law}
+    data["motion"][2]["return"]["law"] = law
+    path = tmp_path / "standard.yaml"
+    path.write_text(yaml.safe_dump(data), encoding="utf-8")
+    assert factor > 1.0
+    assert factor == pytest.approx(integrated_residual(path) / integrated_residual(tuned),
+                                   rel=1e-3)
 
 
 def test_the_tuned_design_builds(tuned_valve: tuple[Path, Path, str],

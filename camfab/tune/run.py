@@ -66,8 +66,11 @@ def finish(tuning: Plan, search: Search, stopped: bool) -> Tuned:
     if best is not None:
         files[tuning.tuned_path.name] = tuned_text(tuning, best.written).encode("utf-8")
     files[tuning.report_path.name] = render_report(tuning, search, stopped)
+    # what the tuned laws gain over the best standard law in their place (not after a stop)
+    standard = (None if best is None or stopped else
+                tuning.evaluator.standard(sorted({f.index for f in tuning.families})))
     written = write_files(folder, files)
-    lines = summary_lines(tuning, search, stopped, written)
+    lines = summary_lines(tuning, search, stopped, written, standard)
     return Tuned(0 if best is not None else 1, lines, written)
 
 

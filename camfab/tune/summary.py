@@ -80,9 +80,11 @@ def why_none(search: Search) -> str:
     return f"{whose} breaks {what}"
 
 
-def summary_lines(tuning: Plan, search: Search, stopped: bool,
-                  written: Sequence[Path]) -> list[str]:
-    """The lines ``camfab tune`` prints (see the module)."""
+def summary_lines(tuning: Plan, search: Search, stopped: bool, written: Sequence[Path],
+                  standard: tuple[str, Trial] | None = None) -> list[str]:
+    """The lines ``camfab tune`` prints (see the module); *standard*, the best standard law
+    in the tuned segments' place (:meth:`~camfab.tune.trials.Evaluator.standard`), is
+    compared with the tuned laws."""
     from camfab.tune.plan import changed
 
     name = tuning.options.design.stem
@@ -101,6 +103,8 @@ def summary_lines(tuning: Plan, search: Search, stopped: bool,
             lines.append("  the design's own laws are the best found: nothing changed")
         if search.global_optimum:
             lines.append(f"  the tuned laws are at their global optimum: {search.convex_note}")
+        if standard is not None:
+            lines.append(standard_line(tuning, best, *standard))
     for u in tuning.untuned:
         lines.append(f"  motion[{u.index}] not tuned: {u.why}")
     before = search.before.margins if search.before is not None else []
@@ -113,6 +117,16 @@ def summary_lines(tuning: Plan, search: Search, stopped: bool,
     lines.append(f"  {ev.measured} candidates measured, {ev.analysed} analysed in full")
     lines += [f"  wrote {path}" for path in written]
     return lines
+
+
+def standard_line(tuning: Plan, best: Trial, law: str, standard: Trial) -> str:
+    """``the best standard law in their place, polynomial-56789: 0.15 mm, 1.08 times the
+    tuned laws'``."""
+    unit = tuning.objective.unit
+    words = f"  the best standard law in their place, {law}: {number(standard.objective, unit)}"
+    if best.objective > 0.0 and math.isfinite(standard.objective):
+        words += f", {standard.objective / best.objective:.4g} times the tuned laws'"
+    return words
 
 
 def shown(value: object) -> str:

@@ -38,6 +38,9 @@ Assignment = tuple[Any, ...]
 #: The order of a joint without a step of the velocity, acceleration or jerk.
 SMOOTH = 4
 
+#: A segment's keys that belong to its law: dropped where a standard law takes its place.
+LAW_KEYS = ("blend", "start", "end", "points", "csv", "order", "controls")
+
 
 @dataclass
 class Trial:
@@ -160,6 +163,48 @@ class Evaluator:
             with _quiet():
                 trial.objective, trial.tiebreak = self.objective.measure(design)
         return trial
+
+    def standard(self, indices: Sequence[int]) -> tuple[str, Trial] | None:
+        """The best standard law put in place of the laws of the segments *indices* (the same
+        law in each), among those that keep every joint as continuous as the design's: its
+        name and its candidate, measured and checked as any (the candidates tried in the order
+        of their objective until one meets every limit); None where none does. What a tuned
+        design is compared with."""
+        import copy
+
+        from camfab.tune.families import standard_laws
+
+        found = []
+        for law in standard_laws():
+            data = copy.deepcopy(self.base)
+            motion = list(self.design.motion or ())
+            for i in indices:
+                entry = data["motion"][i]
+                key = next(iter(entry))
+                entry[key] = {**{k: v for k, v in entry[key].items() if k not in LAW_KEYS},
+                              "law": law}
+                motion[i] = motion[i].model_copy(update={**dict.fromkeys(LAW_KEYS),
+                                                         "law": law})
+            trial = Trial((), (), data)
+            design = with_motion(self.design, motion)
+            try:
+                orders = joint_orders(design.program, self.tolerances)
+            except Exception:  # a law the design's rules refuse here (a polydyne cam's)
+                continue
+            if any(got < need for got, need in zip(orders, self.required, strict=True)):
+                continue
+            if self.objective.needs_analysis:
+                self.check(trial)
+            else:
+                with _quiet():
+                    trial.objective, trial.tiebreak = self.objective.measure(design)
+            if math.isfinite(trial.objective):
+                found.append((law, trial))
+        for law, trial in sorted(found, key=lambda pair: pair[1].rank):
+            self.check(trial)
+            if trial.feasible:
+                return law, trial
+        return None
 
     def design_of(self, assignment: Assignment) -> Design:
         """The design with the values of *assignment* (its program built when asked for)."""
