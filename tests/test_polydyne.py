@@ -47,12 +47,14 @@ def test_the_56789_polynomial_has_four_derivatives_zero_at_both_ends() -> None:
     assert law.peak(1) == pytest.approx(315 / 128, rel=1e-12)
 
 
-@pytest.mark.parametrize("zeta", [0.0, 0.06])
-def test_the_mass_follows_the_program_at_the_design_speed(zeta: float) -> None:
+@pytest.mark.parametrize(("zeta", "law"), [(0.0, "polynomial-56789"),
+                                           (0.06, "polynomial-56789"),
+                                           (0.06, "spline, order: 7, controls: [0.1, 0.5, 0.8]")])
+def test_the_mass_follows_the_program_at_the_design_speed(zeta: float, law: str) -> None:
     """The independent integration, run on the polydyne cam to its periodic state, moves the
     mass as the motion list asks (from its rest on the base circle) to 1e-6 of the lift, and
     leaves no vibration in the dwells."""
-    design = _design(zeta=zeta)
+    design = _design(zeta=zeta, law=law)
     ode = Ode.of(design)
     theta = np.linspace(0.0, 2 * math.pi, 721)[:-1]
     states = ode.periodic(theta)

@@ -106,7 +106,10 @@ def rough_joints(program: MotionProgram) -> list[tuple[int, str]]:
         return bad
     n = len(program.segments)
     ends = [_derivatives(seg, np.array([0.0, seg.span]), 4) for seg in program.segments]
-    scale = np.max(np.abs(np.concatenate(ends, axis=1)), axis=1)
+    # each derivative's scale over the program, from samples of every segment
+    scale = np.max(np.abs(np.concatenate(
+        [_derivatives(seg, np.linspace(0.0, seg.span, 65), 4) for seg in program.segments],
+        axis=1)), axis=1)
     for i, seg in enumerate(program.segments):
         left, right = ends[(i - 1) % n][:, 1], ends[i][:, 0]
         for order, name in ((1, "velocity"), (2, "acceleration"), (3, "jerk"), (4, "snap")):
