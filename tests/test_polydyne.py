@@ -119,3 +119,15 @@ def test_the_studio_offers_what_the_motion_describes_as_a_choice() -> None:
              if f.path == "motion_target"]
     assert found == [{"path": "motion_target", "kind": "choice", "value": "output",
                       "choices": ["cam", "output"]}]
+
+
+def test_a_slow_polydyne_cam_is_as_smooth_as_its_program() -> None:
+    """At 0.0015 rpm the train's lag τ is some 1e-8 rad: the joins of its damped solution must
+    not carry the rounding of the lift (some 1e-15 mm) into the cam's derivatives as 1/τⁿ
+    (found by the fuzzer: an acceleration step of 1e2 mm/rad² at every joint)."""
+    from camfab.motion.continuity import joint_steps
+
+    design = _design(rpm=0.0015)
+    program = design.program  # type: ignore[attr-defined]
+    assert joint_steps(program) == []
+    assert program.peak(3) < 2.0 * design.output_program.peak(3)  # type: ignore[attr-defined]

@@ -133,7 +133,7 @@ def _solve(program: MotionProgram, terms: TrainTerms) -> _Pieces:
     """The cam's lift piece by piece (:class:`_Pieces`): each law's pieces as polynomials in the
     angle into them, g and its particular solution, and the homogeneous constants that join
     them all round the turn."""
-    starts, lengths, particular = [], [], []
+    starts, lengths, particular, forcing = [], [], [], []
     for seg in program.segments:
         pieces = seg.law.pieces()
         assert pieces is not None, "rough_joints refuses laws without polynomial pieces"
@@ -153,6 +153,7 @@ def _solve(program: MotionProgram, terms: TrainTerms) -> _Pieces:
             starts.append(seg.start + a * seg.span)
             lengths.append((b - a) * seg.span)
             particular.append(p)
+            forcing.append(g)
     width = max(len(p) for p in particular)
     table = np.zeros((len(particular), width))
     for i, p in enumerate(particular):
@@ -162,11 +163,27 @@ def _solve(program: MotionProgram, terms: TrainTerms) -> _Pieces:
     if terms.lag > 0.0:
         # continuity at each piece's start: A_j = d_j + E_{j−1} A_{j−1}, d_j the particular
         # solutions' mismatch there, E the homogeneous term's decay over a piece
-        end = np.array([P.polyval(length[i], table[i]) for i in range(len(length))])
-        mismatch = np.roll(end, 1) - table[:, 0]
+        mismatch = np.array([_mismatch(forcing[i - 1], length[i - 1], forcing[i], terms.lag)
+                             for i in range(len(forcing))])
         decay = np.exp(-length / terms.lag)
         homogeneous = _cyclic(mismatch, np.roll(decay, 1))
     return _Pieces(np.array(starts), length, table, homogeneous, terms.lag)
+
+
+def _mismatch(before: Array, length: float, after: Array, lag: float) -> float:
+    """The particular solutions' mismatch where a piece of forcing *before* (over *length*
+    rad) meets one of forcing *after*: Σ (−τ)ᵏ (g⁽ᵏ⁾ before − g⁽ᵏ⁾ after), from k = 3. Below
+    that the terms vanish (g, g′, g″ are continuous where the output's first four derivatives
+    are, as :func:`rough_joints` makes them): taken from k = 0, their rounding (some 1e-16 of
+    the lift) divided by τⁿ in the cam's derivatives would swamp a slow cam's."""
+    total, left, right = 0.0, np.asarray(before), np.asarray(after)
+    for k in range(max(len(left), len(right))):
+        if k >= 3:
+            total += (-lag) ** k * (P.polyval(length, left) - (right[0] if right.size else 0.0))
+        left, right = P.polyder(left), P.polyder(right)
+        if not left.size and not right.size:
+            break
+    return float(total)
 
 
 def _cyclic(d: Array, e: Array) -> Array:
