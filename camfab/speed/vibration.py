@@ -60,8 +60,9 @@ SPECTRUM_LEAST = 40
 
 @dataclass(frozen=True)
 class Dwell:
-    """The vibration left in one dwell: its segment, where it lies (deg) and the dynamic
-    error's peak-to-peak swing over it (m)."""
+    """The vibration left in one dwell: its segment, where it lies (deg) and the mass's
+    peak-to-peak swing over it (m; the dynamic error's, where the cam's lift is constant:
+    :func:`dwell_swings`)."""
 
     segment: int
     start_deg: float
