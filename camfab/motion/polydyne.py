@@ -69,13 +69,15 @@ class TrainTerms:
 class _Pieces:
     """The cam's lift, piece by piece round the turn: each piece's start angle and length
     (rad), its particular solution's ascending coefficients in the angle v into the piece
-    (padded to one length), and its homogeneous term's constant A."""
+    (padded to one length), and its homogeneous term's constant A; how many pieces each
+    segment of the program has, in order."""
 
     start: Array
     length: Array
     particular: Array
     homogeneous: Array
     lag: float
+    counts: tuple[int, ...]
 
     def values(self, piece: Array, v: Array, orders: int = 4) -> Array:
         """s and its derivatives to *orders* − 1 at *v* (rad) into each *piece*: (orders, N)."""
@@ -133,11 +135,12 @@ def _solve(program: MotionProgram, terms: TrainTerms) -> _Pieces:
     """The cam's lift piece by piece (:class:`_Pieces`): each law's pieces as polynomials in the
     angle into them, g and its particular solution, and the homogeneous constants that join
     them all round the turn."""
-    starts, lengths, particular, forcing = [], [], [], []
+    starts, lengths, particular, forcing, counts = [], [], [], [], []
     for seg in program.segments:
         pieces = seg.law.pieces()
         assert pieces is not None, "rough_joints refuses laws without polynomial pieces"
         breaks, coefficients = pieces
+        counts.append(len(coefficients))
         for a, b, c in zip(breaks[:-1], breaks[1:], coefficients, strict=True):
             # x on the piece in v = θ − its start (rad): s₀ + Δ Σ cₖ (v/β)ᵏ
             x = np.asarray(c, dtype=np.float64) * seg.delta / seg.span ** np.arange(len(c))
@@ -167,7 +170,7 @@ def _solve(program: MotionProgram, terms: TrainTerms) -> _Pieces:
                              for i in range(len(forcing))])
         decay = np.exp(-length / terms.lag)
         homogeneous = _cyclic(mismatch, np.roll(decay, 1))
-    return _Pieces(np.array(starts), length, table, homogeneous, terms.lag)
+    return _Pieces(np.array(starts), length, table, homogeneous, terms.lag, tuple(counts))
 
 
 def _mismatch(before: Array, length: float, after: Array, lag: float) -> float:
@@ -248,10 +251,7 @@ class PolydyneProgram(MotionProgram):
         self.output, self.terms, self.speed_rpm = output, terms, speed_rpm
         pieces = _solve(output, terms)
         segments, first = [], 0
-        for seg in output.segments:
-            breaks = seg.law.pieces()
-            assert breaks is not None
-            count = len(breaks[1])
+        for seg, count in zip(output.segments, pieces.counts, strict=True):
             ends = pieces.values(np.array([first, first + count - 1]),
                                  np.array([0.0, pieces.length[first + count - 1]]), 1)[0]
             s0, delta = float(ends[0]), float(ends[1] - ends[0])

@@ -27,6 +27,7 @@ from typing import Any
 
 from camfab.arrays import Array
 from camfab.design import Design
+from camfab.motion.laws import LAWS
 from camfab.motion.program import MotionProgram
 from camfab.tune.families import ChoiceFamily, ContinuousFamily, Family, Written
 from camfab.tune.margins import Margin, margins, violation
@@ -38,8 +39,9 @@ Assignment = tuple[Any, ...]
 #: The order of a joint without a step of the velocity, acceleration or jerk.
 SMOOTH = 4
 
-#: A segment's keys that belong to its law: dropped where a standard law takes its place.
-LAW_KEYS = ("blend", "start", "end", "points", "csv", "order", "controls")
+#: A segment's keys that belong to its law (the laws' parameters, as the registry names them):
+#: dropped where a standard law takes its place.
+LAW_KEYS = tuple(dict.fromkeys(key for info in LAWS for key in info.params))
 
 
 @dataclass
